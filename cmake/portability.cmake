@@ -1,0 +1,21 @@
+# Portability check: the portable core must compile for a Cortex-M3 with
+# arm-none-eabi-gcc, warnings as errors, and only the target's own headers
+# (no host include paths). Registered as the ctest test `portable_cortex_m3`.
+find_program(LMSEGO_ARM_GCC arm-none-eabi-gcc)
+if(NOT LMSEGO_ARM_GCC)
+    if(LMSEGO_REQUIRE_CROSS)
+        message(FATAL_ERROR "arm-none-eabi-gcc not found (LMSEGO_REQUIRE_CROSS is ON)")
+    endif()
+    message(WARNING "arm-none-eabi-gcc not found: the portability check is not registered")
+    return()
+endif()
+
+set(LMSEGO_PORTABLE_SOURCES ${LMS_DRIVER_SOURCES_ABS})
+add_test(NAME portable_cortex_m3
+    COMMAND ${CMAKE_COMMAND}
+        -DCC=${LMSEGO_ARM_GCC}
+        "-DSOURCES=${LMSEGO_PORTABLE_SOURCES}"
+        -DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/driver
+        -DOUT_DIR=${CMAKE_BINARY_DIR}/portable_cortex_m3
+        -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
+set_tests_properties(portable_cortex_m3 PROPERTIES LABELS "portability")
