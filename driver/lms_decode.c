@@ -24,9 +24,10 @@
 #define STATUS_OFF_LASER 122u
 #define STATUS_FIRMWARE_SIZE 7u
 
-static uint16_t get_u16(const uint8_t *p)
+/* Little-endian u16 at base[off]. */
+static uint16_t get_u16(const uint8_t *base, size_t off)
 {
-    return (uint16_t)(p[0] | (p[1] << 8));
+    return (uint16_t)(base[off] | (base[off + 1u] << 8));
 }
 
 lms_status_t lms_telegram_parse(const uint8_t *bytes, size_t len, lms_telegram_t *out)
@@ -41,14 +42,14 @@ lms_status_t lms_telegram_parse(const uint8_t *bytes, size_t len, lms_telegram_t
     if (len < LMS_OVERHEAD + 1u || bytes[0] != LMS_STX) {
         return LMS_ERR_FRAME;
     }
-    const uint16_t field = get_u16(&bytes[2]);
+    const uint16_t field = get_u16(bytes, 2u);
     const bool is_reply = (bytes[1] & LMS_ADDR_REPLY_BIT) != 0u;
     const size_t min_field = is_reply ? 2u : 1u;
     if (field < min_field || (size_t)field + LMS_OVERHEAD != len) {
         return LMS_ERR_FRAME;
     }
     const size_t body = len - LMS_CRC_SIZE;
-    if (lms_crc16(bytes, body) != get_u16(&bytes[body])) {
+    if (lms_crc16(bytes, body) != get_u16(bytes, body)) {
         return LMS_ERR_CRC;
     }
     out->address = bytes[1];
@@ -94,7 +95,11 @@ static void copy_text(char *dst, const uint8_t *src, size_t n)
 {
     for (size_t i = 0u; i < n; i++) {
         const uint8_t c = src[i];
-        dst[i] = (c >= 0x20u && c < 0x7Fu) ? (char)c : '?';
+        char printable = '?';
+        if (c >= 0x20u && c < 0x7Fu) {
+            printable = (char)c;
+        }
+        dst[i] = printable;
     }
     dst[n] = '\0';
 }
@@ -110,7 +115,7 @@ lms_status_t lms_decode_scan(const uint8_t *bytes, size_t len, lms_scan_t *out)
     if (st != LMS_OK) {
         return st;
     }
-    const uint16_t count_word = get_u16(t.data);
+    const uint16_t count_word = get_u16(t.data, 0u);
     const uint16_t n = (uint16_t)(count_word & COUNT_N_MASK);
     const size_t plain = 2u + 2u * (size_t)n;
     if (n > LMS_SCAN_MAX_VALUES || (t.data_len != plain && t.data_len != plain + 2u)) {
@@ -127,7 +132,7 @@ lms_status_t lms_decode_scan(const uint8_t *bytes, size_t len, lms_scan_t *out)
     out->is_partial = (count_word & COUNT_PARTIAL_FLAG) != 0u;
     out->partial_index = (uint8_t)((count_word >> COUNT_PARTIAL_INDEX_SHIFT) & 0x3u);
     for (uint16_t i = 0u; i < n; i++) {
-        out->values[i] = get_u16(&t.data[2u + 2u * i]);
+        out->values[i] = get_u16(t.data, 2u + 2u * i);
     }
     if (t.data_len == plain + 2u) {
         out->has_indices = true;
@@ -345,9 +350,9 @@ lms_status_t lms_decode_status(const uint8_t *bytes, size_t len, lms_device_stat
     out->operating_mode = d[STATUS_OFF_OPERATING_MODE];
     out->device_status = d[STATUS_OFF_DEVICE_STATUS];
     out->meas_mode = d[STATUS_OFF_MEAS_MODE];
-    out->angle_deg = get_u16(&d[STATUS_OFF_ANGLE]);
-    out->resolution_cdeg = get_u16(&d[STATUS_OFF_RESOLUTION]);
-    out->baud_word = get_u16(&d[STATUS_OFF_BAUD]);
+    out->angle_deg = get_u16(d, STATUS_OFF_ANGLE);
+    out->resolution_cdeg = get_u16(d, STATUS_OFF_RESOLUTION);
+    out->baud_word = get_u16(d, STATUS_OFF_BAUD);
     out->baud_known = baud_from_word(out->baud_word, &out->baud);
     out->permanent_baud = d[STATUS_OFF_PERMANENT_BAUD] != 0u;
     out->scanner_address = d[STATUS_OFF_ADDRESS];
@@ -383,8 +388,8 @@ lms_status_t lms_decode_variant_reply(const uint8_t *bytes, size_t len, lms_vari
     }
     out->address = t.address;
     out->status = t.status;
-    out->angle_deg = get_u16(&t.data[1]);
-    out->resolution_cdeg = get_u16(&t.data[3]);
+    out->angle_deg = get_u16(t.data, 1u);
+    out->resolution_cdeg = get_u16(t.data, 3u);
     return LMS_OK;
 }
 

@@ -15,7 +15,6 @@
 
 #include "lms_crc.h"
 
-_Static_assert(LMS_FRAMER_BUF_SIZE >= LMS_TELEGRAM_MAX, "the buffer must hold a telegram");
 _Static_assert(LMS_FRAMER_BUF_SIZE <= 0xFFFFu, "indices are 16 bits");
 
 /* Offsets inside a candidate. */
