@@ -3,6 +3,8 @@
 # /usr/include), and allow only the freestanding C headers plus <string.h>
 # in the portable core, so a stray <stdio.h> or POSIX header fails here even
 # though newlib would provide one.
+cmake_minimum_required(VERSION 3.21)
+
 foreach(var CC SOURCES INCLUDE_DIRS OUT_DIR)
     if(NOT DEFINED ${var})
         message(FATAL_ERROR "compile_portable.cmake: ${var} is not set")
@@ -27,9 +29,10 @@ foreach(dir IN LISTS INCLUDE_DIRS)
     list(APPEND headers ${dir_headers})
 endforeach()
 
+list(REMOVE_ITEM SOURCES "")
 set(failed 0)
 foreach(src IN LISTS SOURCES headers)
-    file(STRINGS ${src} includes REGEX "^[ \t]*#[ \t]*include[ \t]*<")
+    file(STRINGS "${src}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*<")
     foreach(line IN LISTS includes)
         string(REGEX REPLACE "^[^<]*<([^>]*)>.*$" "\\1" header "${line}")
         if(NOT header IN_LIST allowed_headers)
