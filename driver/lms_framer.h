@@ -10,9 +10,10 @@
  * candidate is never lost. Telegrams are reported only after their CRC
  * matched.
  *
- * Direction LMS_FROM_SCANNER: addresses 0x80..0xFF; a lone 06 or 15
- * between telegrams is reported as ACK or NAK. LMS_FROM_HOST: addresses
- * 0x00..0x7F; 06 and 15 are ordinary bytes.
+ * Direction LMS_FROM_SCANNER: addresses 0x80..0xFF; a 06 or 15 met while
+ * hunting for a start is reported as ACK or NAK, also when it comes from
+ * the searched-again bytes of a rejected candidate. LMS_FROM_HOST:
+ * addresses 0x00..0x7F; 06 and 15 are ordinary (skipped) bytes.
  *
  * Length rules applied before the data arrive (L = the length field):
  * 1 <= L <= LMS_LENGTH_MAX for host telegrams (exact sizes for the commands
@@ -91,9 +92,10 @@ lms_framer_event_t lms_framer_feed(lms_framer_t *f, const uint8_t *bytes, size_t
                                    size_t *consumed);
 
 /* The line went idle or the input ended: no more bytes of the current
- * candidate will come. Abandons it (LMS_FRAMER_TRUNCATED) and searches its
- * bytes again; call until it returns LMS_FRAMER_NEED_MORE, after which
- * nothing is buffered. The session calls it after an inter-byte silence
+ * candidate will come. Abandons it (LMS_FRAMER_TRUNCATED; a lone trailing
+ * 02 counts as a truncated candidate too) and searches its bytes again;
+ * call until it returns LMS_FRAMER_NEED_MORE, after which nothing is
+ * buffered. The session calls it after an inter-byte silence
  * longer than the scanner's 14 ms limit. */
 lms_framer_event_t lms_framer_flush(lms_framer_t *f);
 

@@ -1,0 +1,80 @@
+/* cli.c - see cli.h. */
+#include "cli.h"
+
+#include <stdio.h>
+#include <string.h>
+
+/* Writes text to stderr with bytes outside printable ASCII shown as '?'. */
+static void put_printable(const char *text)
+{
+    for (const char *p = text; *p != '\0'; p++) {
+        const unsigned char c = (unsigned char)*p;
+        (void)fputc((c >= 0x20u && c < 0x7Fu) ? (int)c : '?', stderr);
+    }
+}
+
+void cli_error(const char *text)
+{
+    (void)fputs("lmsego: ", stderr);
+    put_printable(text);
+    (void)fputc('\n', stderr);
+}
+
+void cli_file_error(const char *context, const char *file, const char *problem)
+{
+    (void)fputs("lmsego: ", stderr);
+    put_printable(context);
+    (void)fputc('\'', stderr);
+    put_printable(file);
+    (void)fputs("': ", stderr);
+    put_printable(problem);
+    (void)fputc('\n', stderr);
+}
+
+int cli_usage_error(const cli_command_t *cmd, const char *problem, const char *arg,
+                    const char *detail)
+{
+    (void)fputs("lmsego: ", stderr);
+    if (cmd != NULL) {
+        put_printable(cmd->name);
+        (void)fputs(": ", stderr);
+    }
+    put_printable(problem);
+    if (arg != NULL) {
+        (void)fputs(" '", stderr);
+        put_printable(arg);
+        (void)fputc('\'', stderr);
+    }
+    if (detail != NULL) {
+        (void)fputs(" (", stderr);
+        put_printable(detail);
+        (void)fputc(')', stderr);
+    }
+    (void)fputs("; try 'lmsego ", stderr);
+    if (cmd != NULL) {
+        put_printable(cmd->name);
+        (void)fputc(' ', stderr);
+    }
+    (void)fputs("--help'\n", stderr);
+    return CLI_EXIT_USAGE;
+}
+
+void cli_print_command_usage(const cli_command_t *cmd)
+{
+    (void)printf("usage: lmsego %s %s\n  %s\n", cmd->name, cmd->synopsis, cmd->summary);
+    (void)puts("  FILE is a raw recorded telegram stream (scanner -> host); '-' reads stdin.");
+}
+
+bool cli_is_help(const char *arg)
+{
+    return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0;
+}
+
+bool cli_finish_stdout(void)
+{
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        cli_error("error writing standard output");
+        return false;
+    }
+    return true;
+}

@@ -1,0 +1,54 @@
+/* cli.h - shared pieces of the lmsego command-line program (host-only):
+ * exit codes, the subcommand table entry, and one-line error messages.
+ *
+ * Every message goes to stderr as a single line starting "lmsego: ".
+ * File names are printed with non-printable bytes replaced by '?', so a
+ * hostile name cannot break the one-line rule.
+ */
+#ifndef LMSEGO_CLI_H
+#define LMSEGO_CLI_H
+
+#include <stdbool.h>
+
+/* Exit codes of lmsego and of every subcommand. */
+#define CLI_EXIT_OK 0      /* success */
+#define CLI_EXIT_RUNTIME 1 /* the input could not be read, output failed, ... */
+#define CLI_EXIT_USAGE 2   /* bad command line */
+
+struct cli_command;
+
+/* A subcommand: argv[0] is its own name, argv[1..argc-1] its arguments.
+ * Returns one of the CLI_EXIT_* codes. */
+typedef int (*cli_command_fn)(const struct cli_command *self, int argc, char **argv);
+
+typedef struct cli_command {
+    const char *name;     /* word after "lmsego" */
+    const char *synopsis; /* arguments, e.g. "[--mode HEX] FILE" */
+    const char *summary;  /* one line for the help text */
+    cli_command_fn run;
+} cli_command_t;
+
+/* "lmsego: <text>" on stderr. */
+void cli_error(const char *text);
+
+/* "lmsego: <context>'<file>': <problem>" on stderr, e.g.
+ * cli_file_error("cannot open ", "scan.lms", "No such file or directory"). */
+void cli_file_error(const char *context, const char *file, const char *problem);
+
+/* Usage error on stderr, one line:
+ *   "lmsego: <cmd>: <problem> '<arg>' (<detail>); try 'lmsego <cmd> --help'"
+ * cmd, arg and detail may be NULL (then their parts are left out).
+ * Returns CLI_EXIT_USAGE. */
+int cli_usage_error(const cli_command_t *cmd, const char *problem, const char *arg,
+                    const char *detail);
+
+/* Usage of one subcommand on stdout ("usage: lmsego stats FILE" + summary). */
+void cli_print_command_usage(const cli_command_t *cmd);
+
+/* True for "-h" and "--help". */
+bool cli_is_help(const char *arg);
+
+/* Flushes stdout; on a write error prints a message and returns false. */
+bool cli_finish_stdout(void);
+
+#endif /* LMSEGO_CLI_H */

@@ -1,0 +1,135 @@
+/* cmd_scans.c - `lmsego scans [--mode HEX] FILE`: one line per B0 scan
+ * that lms_decode_scan accepts:
+ *
+ *   <index> <unit_mm> <n> <v1> ... <vn>
+ *
+ * index counts the printed scans from 0, unit_mm is 1 or 10, and each
+ * value is its distance in mm (lms_value_decode in the measuring mode
+ * given by --mode, default 00), or for a special value the negative
+ * lms_value_kind_t number (-1 no return, -2 dazzle, -3 overflow, -4 low
+ * SNR, -5 channel error, -7 beyond max, -8 other reserved codes). Other
+ * telegrams, and B0 telegrams the decoder rejects, are skipped silently.
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "commands.h"
+#include "lms_decode.h"
+#include "stream_frames.h"
+
+typedef struct {
+    uint8_t meas_mode;
+    unsigned long index; /* of the next printed scan */
+    lms_scan_t scan;     /* scratch for the decoder */
+} scans_print_t;
+
+/* Parses the --mode argument: one or two hex digits, optional 0x prefix,
+ * and only the range modes 00..06 and 0F. Returns 0 on success. */
+static int parse_meas_mode(const char *text, uint8_t *mode)
+{
+    if (text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
+        text += 2;
+    }
+    const size_t digits = strlen(text);
+    if (digits == 0u || digits > 2u) {
+        return -1;
+    }
+    unsigned value = 0u;
+    for (size_t i = 0u; i < digits; i++) {
+        const char c = text[i];
+        unsigned digit;
+        if (c >= '0' && c <= '9') {
+            digit = (unsigned)(c - '0');
+        } else if (c >= 'a' && c <= 'f') {
+            digit = (unsigned)(c - 'a') + 10u;
+        } else if (c >= 'A' && c <= 'F') {
+            digit = (unsigned)(c - 'A') + 10u;
+        } else {
+            return -1;
+        }
+        value = value * 16u + digit;
+    }
+    if (value > (unsigned)LMS_MEAS_32M_FIELD_A && value != (unsigned)LMS_MEAS_32M_IMMEDIATE) {
+        return -1;
+    }
+    *mode = (uint8_t)value;
+    return 0;
+}
+
+static int print_scan(void *ctx, const uint8_t *telegram, size_t len)
+{
+    scans_print_t *p = ctx;
+    if (len <= LMS_HEADER_SIZE || telegram[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
+        return 0;
+    }
+    if (lms_decode_scan(telegram, len, &p->scan) != LMS_OK) {
+        return 0;
+    }
+    const lms_scan_t *scan = &p->scan;
+    const unsigned unit_mm = (scan->unit == LMS_UNIT_MM) ? 1u : 10u;
+    (void)printf("%lu %u %u", p->index, unit_mm, (unsigned)scan->count);
+    for (uint16_t i = 0u; i < scan->count && i < LMS_SCAN_MAX_VALUES; i++) {
+        lms_value_t value;
+        if (lms_value_decode(scan->values[i], p->meas_mode, scan->unit, &value) != LMS_OK) {
+            cli_error("internal error: lms_value_decode refused a checked mode and unit");
+            return 1;
+        }
+        if (value.kind == LMS_VALUE_RANGE) {
+            (void)printf(" %lu", (unsigned long)value.distance_mm);
+        } else {
+            (void)printf(" %d", (int)value.kind);
+        }
+    }
+    (void)putchar('\n');
+    p->index++;
+    return ferror(stdout) ? 1 : 0;
+}
+
+int cmd_scans(const cli_command_t *self, int argc, char **argv)
+{
+    const char *path = NULL;
+    uint8_t meas_mode = LMS_MEAS_8M_FIELDS_DAZZLE;
+    int options_done = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        if (!options_done && strcmp(arg, "--") == 0) {
+            options_done = 1;
+        } else if (!options_done && cli_is_help(arg)) {
+            cli_print_command_usage(self);
+            (void)puts("  --mode HEX  measuring mode of the values: 00..06 or 0F (default 00)");
+            return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
+        } else if (!options_done && strcmp(arg, "--mode") == 0) {
+            if (i + 1 >= argc) {
+                return cli_usage_error(self, "--mode needs a value", NULL, NULL);
+            }
+            i++;
+            if (parse_meas_mode(argv[i], &meas_mode) != 0) {
+                return cli_usage_error(self, "invalid --mode", argv[i], "expected 00..06 or 0F");
+            }
+        } else if (!options_done && strncmp(arg, "--mode=", 7u) == 0) {
+            if (parse_meas_mode(arg + 7, &meas_mode) != 0) {
+                return cli_usage_error(self, "invalid --mode", arg + 7, "expected 00..06 or 0F");
+            }
+        } else if (!options_done && arg[0] == '-' && arg[1] != '\0') {
+            return cli_usage_error(self, "unknown option", arg, NULL);
+        } else if (path != NULL) {
+            return cli_usage_error(self, "unexpected argument", arg, NULL);
+        } else {
+            path = arg;
+        }
+    }
+    if (path == NULL) {
+        return cli_usage_error(self, "missing FILE", NULL, NULL);
+    }
+
+    static lms_framer_t framer;
+    static scans_print_t printer;
+    memset(&printer, 0, sizeof printer);
+    printer.meas_mode = meas_mode;
+    const int rc = stream_frames_run_path(path, &framer, print_scan, &printer);
+    if (!cli_finish_stdout()) {
+        return CLI_EXIT_RUNTIME;
+    }
+    return rc;
+}

@@ -1,0 +1,14 @@
+/* commands.h - the subcommands of lmsego; lmsego_main.c lists them in its
+ * dispatch table. Each one follows cli_command_fn (see cli.h). */
+#ifndef LMSEGO_COMMANDS_H
+#define LMSEGO_COMMANDS_H
+
+#include "cli.h"
+
+/* lmsego stats FILE: one line of framer and decoder counters. */
+int cmd_stats(const cli_command_t *self, int argc, char **argv);
+
+/* lmsego scans [--mode HEX] FILE: one line per decoded B0 scan. */
+int cmd_scans(const cli_command_t *self, int argc, char **argv);
+
+#endif /* LMSEGO_COMMANDS_H */

@@ -1,0 +1,72 @@
+/* lmsego_main.c - the lmsego command-line program (host-only): global
+ * options, usage and dispatch to the subcommands.
+ *
+ * A subcommand is one row in `commands` below plus its cmd_*.c file;
+ * nothing else needs to change to add one.
+ *
+ * Exit status: 0 ok, 1 runtime error (unreadable input, write error),
+ * 2 usage error (no subcommand, unknown subcommand or option).
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "commands.h"
+
+static const cli_command_t commands[] = {
+    {"stats", "FILE", "count telegrams, scans and framing errors of a recorded stream", cmd_stats},
+    {"scans", "[--mode HEX] FILE", "print every decoded B0 scan, one line per scan", cmd_scans},
+};
+
+#define COMMAND_COUNT (sizeof commands / sizeof commands[0])
+
+static void print_usage(void)
+{
+    (void)puts("usage: lmsego <command> [options] FILE\n"
+               "       lmsego --help | <command> --help\n"
+               "\n"
+               "Reads SICK LMS 2xx telegram streams recorded off the serial line\n"
+               "(the raw bytes the scanner sent). FILE '-' reads standard input.\n"
+               "\n"
+               "commands:");
+    for (size_t i = 0u; i < COMMAND_COUNT; i++) {
+        char left[48];
+        (void)snprintf(left, sizeof left, "%s %s", commands[i].name, commands[i].synopsis);
+        (void)printf("  %-24s %s\n", left, commands[i].summary);
+    }
+    (void)puts("\n"
+               "options:\n"
+               "  -h, --help               show this help and exit\n"
+               "\n"
+               "exit status: 0 ok, 1 runtime error (e.g. unreadable file), 2 usage error");
+}
+
+static const cli_command_t *find_command(const char *name)
+{
+    for (size_t i = 0u; i < COMMAND_COUNT; i++) {
+        if (strcmp(commands[i].name, name) == 0) {
+            return &commands[i];
+        }
+    }
+    return NULL;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        return cli_usage_error(NULL, "missing command", NULL, NULL);
+    }
+    const char *first = argv[1];
+    if (cli_is_help(first)) {
+        print_usage();
+        return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
+    }
+    if (first[0] == '-') {
+        return cli_usage_error(NULL, "unknown option", first, NULL);
+    }
+    const cli_command_t *cmd = find_command(first);
+    if (cmd == NULL) {
+        return cli_usage_error(NULL, "unknown command", first, NULL);
+    }
+    return cmd->run(cmd, argc - 1, argv + 1);
+}

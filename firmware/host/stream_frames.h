@@ -1,0 +1,42 @@
+/* stream_frames.h - runs a recorded stream through lms_framer (host-only).
+ *
+ * Reads the file in STREAM_FILE_CHUNK-byte chunks, feeds every byte to the
+ * framer, flushes it at the end of the input until it has nothing left,
+ * and hands every CRC-valid telegram to a callback. The other framer
+ * events (ACK, NAK, CRC / length errors, truncation) are only counted, in
+ * the framer's own statistics.
+ */
+#ifndef LMSEGO_STREAM_FRAMES_H
+#define LMSEGO_STREAM_FRAMES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lms_framer.h"
+#include "stream_file.h"
+
+/* Called for each telegram (STX .. CRC, valid until the callback returns).
+ * Return 0 to go on, nonzero to stop reading. */
+typedef int (*stream_telegram_fn)(void *ctx, const uint8_t *telegram, size_t len);
+
+typedef enum {
+    STREAM_FRAMES_DONE = 0,       /* the whole input was read and flushed */
+    STREAM_FRAMES_READ_ERROR = 1, /* reading failed; in->error holds errno */
+    STREAM_FRAMES_STOPPED = 2,    /* the callback asked to stop */
+    STREAM_FRAMES_STUCK = 3       /* the framer broke its contract (no progress) */
+} stream_frames_result_t;
+
+/* framer must be initialised (lms_framer_init) by the caller, who reads
+ * the statistics afterwards. */
+stream_frames_result_t stream_frames_run(stream_file_t *in, lms_framer_t *framer,
+                                         stream_telegram_fn on_telegram, void *ctx);
+
+/* The whole job of a subcommand that reads one FILE: opens path ("-" =
+ * stdin), initialises framer for the scanner direction, runs it and
+ * closes the file. Problems are reported on stderr as one line naming the
+ * file. Returns CLI_EXIT_OK, or CLI_EXIT_RUNTIME when the file could not
+ * be opened or read, or the callback stopped the run. */
+int stream_frames_run_path(const char *path, lms_framer_t *framer, stream_telegram_fn on_telegram,
+                           void *ctx);
+
+#endif /* LMSEGO_STREAM_FRAMES_H */

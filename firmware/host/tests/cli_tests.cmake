@@ -1,0 +1,102 @@
+# ctest tests of the lmsego command line (label "cli"), included from
+# firmware/host/CMakeLists.txt. Every test runs tests/run_cli.cmake, which
+# checks the exit code and compares stdout / stderr.
+#
+# Expected outputs, and where they come from (none is lmsego's own output):
+#   host_tests/data/recordings/*.scans, *.stats  lmsgen's ground truth
+#       (the values it encoded, and the counters its framer-contract model
+#       predicts; see the README there)
+#   tests/vectors.*  worked out by hand from the vector descriptions in
+#       ../shared/reference/lms2xx-vectors.txt (see vectors.hex)
+#
+# Every path here is relative to this file.
+set(LMSEGO_CLI_DATA ${CMAKE_CURRENT_LIST_DIR})
+set(LMSEGO_CLI_SCRIPT ${LMSEGO_CLI_DATA}/run_cli.cmake)
+get_filename_component(LMSEGO_RECORDINGS ${LMSEGO_CLI_DATA}/../../../host_tests/data/recordings
+    ABSOLUTE)
+set(LMSEGO_CLI_MISSING ${CMAKE_BINARY_DIR}/lmsego-cli-no-such-file.lms)
+
+# lmsego_cli_test(NAME [ARGS a b ...] [OPTIONS -DKEY=VALUE ...])
+function(lmsego_cli_test name)
+    cmake_parse_arguments(PARSE_ARGV 1 t "" "" "ARGS;OPTIONS")
+    set(defs "")
+    set(i 1)
+    foreach(arg IN LISTS t_ARGS)
+        list(APPEND defs "-DARG${i}=${arg}")
+        math(EXPR i "${i} + 1")
+    endforeach()
+    add_test(NAME cli_${name}
+        COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> ${defs} ${t_OPTIONS}
+                -P ${LMSEGO_CLI_SCRIPT})
+    set_tests_properties(cli_${name} PROPERTIES LABELS "cli")
+endfunction()
+
+# --- help and usage errors --------------------------------------------
+lmsego_cli_test(help ARGS --help
+    OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(help_short ARGS -h
+    OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(stats_help ARGS stats --help
+    OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego\ stats -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(scans_help ARGS scans -h
+    OPTIONS -DSTDOUT_REGEX=--mode -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(no_args
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(unknown_command ARGS frobnicate
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            -DSTDERR_REGEX=frobnicate)
+lmsego_cli_test(unknown_option ARGS --frobnicate
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(stats_bad_option ARGS stats --bogus ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--bogus)
+lmsego_cli_test(stats_no_file ARGS stats
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(stats_two_files
+    ARGS stats ${LMSEGO_CLI_DATA}/vectors.lms ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(scans_bad_mode ARGS scans --mode 07 ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=07)
+lmsego_cli_test(scans_mode_not_hex ARGS scans --mode zz ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(scans_mode_missing ARGS scans --mode
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON)
+
+# --- unreadable input --------------------------------------------------
+lmsego_cli_test(stats_missing_file ARGS stats ${LMSEGO_CLI_MISSING}
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            -DSTDERR_REGEX=no-such-file\\.lms)
+lmsego_cli_test(scans_missing_file ARGS scans ${LMSEGO_CLI_MISSING}
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            -DSTDERR_REGEX=no-such-file\\.lms)
+lmsego_cli_test(stats_directory ARGS stats ${LMSEGO_CLI_DATA}
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            -DSTDERR_REGEX=[Dd]irectory)
+
+# --- published vectors, expected outputs worked out by hand -----------
+add_test(NAME cli_vectors_hex
+    COMMAND ${CMAKE_COMMAND} -DHEX=${LMSEGO_CLI_DATA}/vectors.hex
+            -DBIN=${LMSEGO_CLI_DATA}/vectors.lms -P ${LMSEGO_CLI_DATA}/hex_matches.cmake)
+set_tests_properties(cli_vectors_hex PROPERTIES LABELS "cli")
+lmsego_cli_test(vectors_stats ARGS stats ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_CLI_DATA}/vectors.stats -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(vectors_scans ARGS scans ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_CLI_DATA}/vectors.scans -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(vectors_scans_mode_0f ARGS scans --mode 0F ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_CLI_DATA}/vectors_mode0f.scans -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(vectors_scans_mode_04 ARGS scans --mode=0x04 ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_CLI_DATA}/vectors_mode04.scans -DEXPECT_STDERR_EMPTY=ON)
+
+# --- shipped recordings against lmsgen's ground truth ------------------
+foreach(rec room_181_mm room_361_cm_faults)
+    lmsego_cli_test(${rec}_stats ARGS stats ${LMSEGO_RECORDINGS}/${rec}.lms
+        OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.stats -DEXPECT_STDERR_EMPTY=ON)
+    lmsego_cli_test(${rec}_scans ARGS scans ${LMSEGO_RECORDINGS}/${rec}.lms
+        OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans -DEXPECT_STDERR_EMPTY=ON)
+    # The same through stdin.
+    lmsego_cli_test(${rec}_stats_stdin ARGS stats -
+        OPTIONS -DSTDIN_FILE=${LMSEGO_RECORDINGS}/${rec}.lms
+                -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.stats -DEXPECT_STDERR_EMPTY=ON)
+    lmsego_cli_test(${rec}_scans_stdin ARGS scans --mode 00 -
+        OPTIONS -DSTDIN_FILE=${LMSEGO_RECORDINGS}/${rec}.lms
+                -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans -DEXPECT_STDERR_EMPTY=ON)
+endforeach()
