@@ -82,7 +82,8 @@ typedef struct {
     uint32_t distance_mm; /* RANGE: the distance in mm; REFLECTIVITY: the raw
                              16-bit value; 0 for special values */
     uint8_t flags;        /* the bits above the distance bits, shifted down to
-                             bit 0 (fields, dazzle, reflector level) */
+                             bit 0 (fields, dazzle, reflector level); set for
+                             special values too */
 } lms_value_t;
 
 /* Splits a value word by measuring mode (lms_meas_mode_t) and scales it by
@@ -167,7 +168,8 @@ lms_status_t lms_decode_status(const uint8_t *bytes, size_t len, lms_device_stat
 typedef struct {
     uint8_t address;
     uint8_t status;
-    bool accepted;            /* result 01; 00 = refused, old variant active */
+    bool accepted;            /* result 01; 00 = refused, old variant active;
+                                 other result bytes: LMS_ERR_VALUE */
     uint16_t angle_deg;       /* the variant now active */
     uint16_t resolution_cdeg;
 } lms_variant_reply_t;
@@ -187,7 +189,7 @@ lms_status_t lms_decode_config(const uint8_t *bytes, size_t len, lms_config_repl
 typedef struct {
     uint8_t address;
     uint8_t status;
-    bool accepted;            /* result 01; 00 = refused */
+    bool accepted;            /* result 01; 00 = refused; others: LMS_ERR_VALUE */
     lms_config_t config;      /* the echoed block */
 } lms_config_write_reply_t;
 

@@ -48,6 +48,15 @@ lms_status_t lms_telegram_write(uint8_t *out, size_t cap, uint8_t address,
     return LMS_OK;
 }
 
+/* An illegal argument: an empty command and LMS_ERR_ARG. */
+static lms_status_t reject_cmd(lms_cmd_t *out)
+{
+    if (out != NULL) {
+        memset(out, 0, sizeof *out);
+    }
+    return LMS_ERR_ARG;
+}
+
 /* A host command from its payload (code + data). */
 static lms_status_t build_cmd(lms_cmd_t *out, uint8_t address, const uint8_t *payload,
                               size_t payload_len)
@@ -86,10 +95,7 @@ static bool mode_has_no_parameters(lms_mode_t mode)
 lms_status_t lms_cmd_mode(lms_cmd_t *out, uint8_t address, lms_mode_t mode)
 {
     if (!mode_has_no_parameters(mode)) {
-        if (out != NULL) {
-            memset(out, 0, sizeof *out);
-        }
-        return LMS_ERR_ARG;
+        return reject_cmd(out);
     }
     const uint8_t payload[] = {LMS_CMD_MODE, (uint8_t)mode};
     return build_cmd(out, address, payload, sizeof payload);
@@ -98,7 +104,18 @@ lms_status_t lms_cmd_mode(lms_cmd_t *out, uint8_t address, lms_mode_t mode)
 lms_status_t lms_cmd_installation(lms_cmd_t *out, uint8_t address, const char *password)
 {
     static const char default_password[PASSWORD_SIZE] = {'S', 'I', 'C', 'K', '_', 'L', 'M', 'S'};
-    const char *pw = (password != NULL) ? password : default_password;
+    const char *pw = default_password;
+    if (password != NULL) {
+        for (size_t i = 0u; i < PASSWORD_SIZE; i++) {
+            if (password[i] == '\0') {
+                return reject_cmd(out); /* too short */
+            }
+        }
+        if (password[PASSWORD_SIZE] != '\0') {
+            return reject_cmd(out); /* too long */
+        }
+        pw = password;
+    }
     uint8_t payload[2u + PASSWORD_SIZE];
     payload[0] = LMS_CMD_MODE;
     payload[1] = (uint8_t)LMS_MODE_INSTALLATION;
@@ -120,10 +137,7 @@ lms_status_t lms_cmd_baud(lms_cmd_t *out, uint8_t address, lms_baud_t baud)
     case LMS_BAUD_500000:
         return lms_cmd_mode(out, address, LMS_MODE_BAUD_500000);
     }
-    if (out != NULL) {
-        memset(out, 0, sizeof *out);
-    }
-    return LMS_ERR_ARG;
+    return reject_cmd(out);
 }
 
 lms_status_t lms_cmd_request_values(lms_cmd_t *out, uint8_t address)
@@ -177,10 +191,7 @@ lms_status_t lms_cmd_variant(lms_cmd_t *out, uint8_t address, uint16_t angle_deg
                              uint16_t resolution_cdeg)
 {
     if (!lms_variant_is_legal(angle_deg, resolution_cdeg)) {
-        if (out != NULL) {
-            memset(out, 0, sizeof *out);
-        }
-        return LMS_ERR_ARG;
+        return reject_cmd(out);
     }
     uint8_t payload[5];
     payload[0] = LMS_CMD_VARIANT;
@@ -192,10 +203,7 @@ lms_status_t lms_cmd_variant(lms_cmd_t *out, uint8_t address, uint16_t angle_deg
 lms_status_t lms_cmd_config_write(lms_cmd_t *out, uint8_t address, const lms_config_t *cfg)
 {
     if (cfg == NULL || (cfg->size != LMS_CONFIG_SIZE_OLD && cfg->size != LMS_CONFIG_SIZE_NEW)) {
-        if (out != NULL) {
-            memset(out, 0, sizeof *out);
-        }
-        return LMS_ERR_ARG;
+        return reject_cmd(out);
     }
     uint8_t payload[1u + LMS_CONFIG_SIZE_MAX];
     payload[0] = LMS_CMD_CONFIG_WRITE;

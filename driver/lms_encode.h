@@ -21,7 +21,7 @@
 
 /* Writes STX, address, L = payload_len (+1 when status_or_neg >= 0),
  * payload, the status byte when status_or_neg >= 0, and the CRC.
- * *written gets the total size. LMS_ERR_ARG when it does not fit in cap,
+ * *written (may be NULL) gets the total size. LMS_ERR_ARG when it does not fit in cap,
  * when payload_len is 0 or L would exceed LMS_LENGTH_MAX. */
 lms_status_t lms_telegram_write(uint8_t *out, size_t cap, uint8_t address,
                                 const uint8_t *payload, size_t payload_len,
@@ -37,7 +37,9 @@ typedef struct {
  * baud codes). LMS_MODE_INSTALLATION needs lms_cmd_installation. */
 lms_status_t lms_cmd_mode(lms_cmd_t *out, uint8_t address, lms_mode_t mode);
 
-/* 20 00 <8-byte password>; password NULL means the default "SICK_LMS". */
+/* 20 00 <password>: password is a NUL-terminated string of exactly 8
+ * characters (LMS_ERR_ARG otherwise; read no further than its NUL), or
+ * NULL for the default "SICK_LMS". */
 lms_status_t lms_cmd_installation(lms_cmd_t *out, uint8_t address, const char *password);
 
 /* 20 42 / 41 / 40 / 48: switch the line rate. */
@@ -76,7 +78,8 @@ bool lms_variant_is_legal(uint16_t angle_deg, uint16_t resolution_cdeg);
 /* --- Scanner side ------------------------------------------------------ */
 
 /* A B0 telegram from a scan: count word from count, unit, is_partial and
- * partial_index; real-time indices when has_indices; then status. address
+ * (only when is_partial) partial_index; real-time indices when
+ * has_indices; then status. written may be NULL. address
  * must have bit 7 set. LMS_ERR_ARG for count > LMS_SCAN_MAX_VALUES,
  * partial_index > 3 or cap < 2 * count + 10 (+ 2). */
 lms_status_t lms_encode_scan(uint8_t *out, size_t cap, uint8_t address, const lms_scan_t *scan,

@@ -17,7 +17,8 @@
  *
  * Length rules applied before the data arrive (L = the length field):
  * 1 <= L <= LMS_LENGTH_MAX for host telegrams (exact sizes for the commands
- * of lms_encode.h), and for scanner replies L >= 2 and the exact size of
+ * that have one: 10, 31, 32, 3A, 74 -> 1; 3B -> 5; 77 -> 33 or 35; 20 and 30
+ * at least 2, as their parameters vary with the mode), and for scanner replies L >= 2 and the exact size of
  * each known code (90, 91, 92, A0, B1, BA, BB, F4, F7), and for B0
  * L = 2N + 4 or 2N + 6 with N (count word) <= LMS_SCAN_MAX_VALUES.
  *
@@ -86,8 +87,8 @@ void lms_framer_init(lms_framer_t *f, lms_direction_t direction);
 /* Consumes up to len bytes and stops at the first event. *consumed gets
  * the number of bytes used (may be less than len, or 0 when the event came
  * from bytes buffered earlier). Call again with the rest until it returns
- * LMS_FRAMER_NEED_MORE, which means every byte was used. bytes may be NULL
- * when len is 0. */
+ * LMS_FRAMER_NEED_MORE, which means every byte was used. bytes NULL is
+ * taken as len 0. */
 lms_framer_event_t lms_framer_feed(lms_framer_t *f, const uint8_t *bytes, size_t len,
                                    size_t *consumed);
 
