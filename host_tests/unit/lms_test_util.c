@@ -18,11 +18,10 @@ uint32_t tu_rand(uint32_t *state)
 
 uint32_t tu_rand_range(uint32_t *state, uint32_t lo, uint32_t hi)
 {
-    const uint32_t span = hi - lo + 1u;
-    if (span == 0u) { /* the whole 32-bit range */
+    if (lo == 0u && hi == UINT32_MAX) { /* the whole range: span would wrap */
         return tu_rand(state);
     }
-    return lo + tu_rand(state) % span;
+    return lo + tu_rand(state) % (hi - lo + 1u);
 }
 
 uint8_t tu_rand_byte(uint32_t *state)

@@ -335,7 +335,10 @@ static void test_lms_decode_replies_ident_non_printable(void)
         0x1Fu, 0x7Fu, 0x80u, 0xFFu, '\n', '\t', 'A', ' ', '~', 0x00u};
     char want[LMS_TYPE_TEXT_SIZE + 1u];
     for (size_t i = 0u; i < LMS_TYPE_TEXT_SIZE; i++) {
-        want[i] = (text[i] >= 0x20u && text[i] <= 0x7Eu) ? (char)text[i] : '?';
+        want[i] = '?';
+        if (text[i] >= 0x20u && text[i] <= 0x7Eu) {
+            want[i] = (char)text[i];
+        }
     }
     want[LMS_TYPE_TEXT_SIZE] = '\0';
     uint8_t payload[LMS_TYPE_TEXT_SIZE + 2u];
