@@ -142,52 +142,39 @@ lms_status_t lms_decode_scan(const uint8_t *bytes, size_t len, lms_scan_t *out)
     return LMS_OK;
 }
 
+/* Kinds of the nine codes at the top of a mode's range, indexed by
+ * max - code. */
+static const lms_value_kind_t top_code_kind[9] = {
+    LMS_VALUE_NO_RETURN,     LMS_VALUE_DAZZLE,   LMS_VALUE_OVERFLOW,
+    LMS_VALUE_RESERVED,      LMS_VALUE_LOW_SNR,  LMS_VALUE_CHANNEL_ERROR,
+    LMS_VALUE_RESERVED,      LMS_VALUE_RESERVED, LMS_VALUE_BEYOND_MAX,
+};
+
 lms_status_t lms_value_decode(uint16_t word, uint8_t meas_mode, lms_unit_t unit, lms_value_t *out)
 {
     if (out == NULL) {
         return LMS_ERR_ARG;
     }
-    memset(out, 0, sizeof *out);
     const unsigned bits = lms_meas_mode_bits(meas_mode);
     if (bits == 0u || (unit != LMS_UNIT_CM && unit != LMS_UNIT_MM)) {
+        memset(out, 0, sizeof *out);
         return LMS_ERR_ARG;
     }
     if (meas_mode == LMS_MEAS_REFLECTIVITY) {
         out->kind = LMS_VALUE_REFLECTIVITY;
         out->distance_mm = word;
+        out->flags = 0u;
         return LMS_OK;
     }
     const uint32_t max = (1u << bits) - 1u;
     const uint32_t d = word & max;
     out->flags = (uint8_t)((uint32_t)word >> bits);
-    out->kind = LMS_VALUE_RANGE;
     if (bits < 16u && d >= max - 8u) {
-        /* The nine codes at the top of the range are not distances. */
-        switch (max - d) {
-        case 0u:
-            out->kind = LMS_VALUE_NO_RETURN;
-            break;
-        case 1u:
-            out->kind = LMS_VALUE_DAZZLE;
-            break;
-        case 2u:
-            out->kind = LMS_VALUE_OVERFLOW;
-            break;
-        case 4u:
-            out->kind = LMS_VALUE_LOW_SNR;
-            break;
-        case 5u:
-            out->kind = LMS_VALUE_CHANNEL_ERROR;
-            break;
-        case 8u:
-            out->kind = LMS_VALUE_BEYOND_MAX;
-            break;
-        default:
-            out->kind = LMS_VALUE_RESERVED;
-            break;
-        }
+        out->kind = top_code_kind[max - d];
+        out->distance_mm = 0u;
         return LMS_OK;
     }
+    out->kind = LMS_VALUE_RANGE;
     out->distance_mm = (unit == LMS_UNIT_CM) ? d * 10u : d;
     return LMS_OK;
 }

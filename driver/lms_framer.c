@@ -138,6 +138,18 @@ static lms_framer_event_t accept(lms_framer_t *f)
     return LMS_FRAMER_TELEGRAM;
 }
 
+/* The candidate is complete: accept it or reject it on its CRC. */
+static lms_framer_event_t check_crc(lms_framer_t *f)
+{
+    const uint8_t *c = &f->buf[f->head];
+    const uint16_t body = (uint16_t)(f->expect - LMS_CRC_SIZE);
+    const uint16_t sent = (uint16_t)(c[body] | (c[body + 1u] << 8));
+    if (lms_crc16(c, body) != sent) {
+        return reject(f, LMS_FRAMER_CRC_ERROR);
+    }
+    return accept(f);
+}
+
 /* Examines the next unexamined buffered byte; returns an event or NEED_MORE
  * (meaning: nothing to report, go on). */
 static lms_framer_event_t examine(lms_framer_t *f)
@@ -191,13 +203,7 @@ static lms_framer_event_t examine(lms_framer_t *f)
         }
     }
     if (f->examined == f->expect) {
-        const uint8_t *c = &f->buf[f->head];
-        const uint16_t body = (uint16_t)(f->expect - LMS_CRC_SIZE);
-        const uint16_t sent = (uint16_t)(c[body] | (c[body + 1u] << 8));
-        if (lms_crc16(c, body) != sent) {
-            return reject(f, LMS_FRAMER_CRC_ERROR);
-        }
-        return accept(f);
+        return check_crc(f);
     }
     return LMS_FRAMER_NEED_MORE;
 }
@@ -213,19 +219,50 @@ static void release_reported(lms_framer_t *f)
     }
 }
 
+/* Moves the buffered bytes (all of them the incomplete candidate, shorter
+ * than the buffer) to the front. */
+static void compact(lms_framer_t *f)
+{
+    const uint16_t kept = (uint16_t)(f->tail - f->head);
+    memmove(f->buf, &f->buf[f->head], kept);
+    f->head = 0u;
+    f->tail = kept;
+}
+
 static void append(lms_framer_t *f, uint8_t b)
 {
     if (f->tail == LMS_FRAMER_BUF_SIZE) {
-        /* Everything buffered is an incomplete candidate, shorter than the
-         * buffer, so moving it to the front always makes room. */
-        const uint16_t kept = (uint16_t)(f->tail - f->head);
-        memmove(f->buf, &f->buf[f->head], kept);
-        f->head = 0u;
-        f->tail = kept;
+        compact(f);
     }
     f->buf[f->tail] = b;
     f->tail++;
     f->stats.bytes_in++;
+}
+
+/* Fast path once the header has passed every check: the rest of the
+ * candidate (data, status, CRC) needs no per-byte decision, so it is copied
+ * from the input in one go. Returns the number of bytes taken. */
+static size_t append_body(lms_framer_t *f, const uint8_t *bytes, size_t len)
+{
+    size_t n = (size_t)(f->expect - f->examined);
+    if (n > len) {
+        n = len;
+    }
+    if ((size_t)f->head + f->expect > LMS_FRAMER_BUF_SIZE) {
+        compact(f); /* then head + expect <= LMS_TELEGRAM_MAX fits */
+    }
+    memcpy(&f->buf[f->tail], bytes, n);
+    f->tail = (uint16_t)(f->tail + n);
+    f->examined = (uint16_t)(f->examined + n);
+    f->stats.bytes_in += (uint32_t)n;
+    return n;
+}
+
+/* True when the candidate's header checks are all done (the last one looks
+ * at the B0 count word) and only its body is missing. */
+static bool header_checked(const lms_framer_t *f)
+{
+    return f->expect != 0u && f->examined > OFF_COUNT_HI;
 }
 
 /* Examines buffered bytes and appends input until there is an event to
@@ -247,6 +284,11 @@ static lms_framer_event_t run(lms_framer_t *f, const uint8_t *bytes, size_t len,
             if (f->head == f->tail) {
                 f->head = 0u;
                 f->tail = 0u;
+            }
+        } else if (used < len && header_checked(f)) {
+            used += append_body(f, &bytes[used], len - used);
+            if (f->examined == f->expect) {
+                ev = check_crc(f);
             }
         } else if (used < len) {
             append(f, bytes[used]);
