@@ -179,47 +179,36 @@ lms_status_t lms_value_decode(uint16_t word, uint8_t meas_mode, lms_unit_t unit,
     return LMS_OK;
 }
 
+/* The five variants, by value count. */
+static const struct {
+    uint16_t count;
+    uint16_t field_deg;
+    uint16_t step_cdeg;
+} variants[] = {
+    {181u, 180u, 100u}, {361u, 180u, 50u}, {101u, 100u, 100u}, {201u, 100u, 50u}, {401u, 100u, 25u},
+};
+
 lms_status_t lms_scan_layout(const lms_scan_t *scan, lms_layout_t *out)
 {
     if (scan == NULL || out == NULL) {
         return LMS_ERR_ARG;
     }
     memset(out, 0, sizeof *out);
-    uint16_t field = 0u;
-    uint16_t step = 0u;
-    switch (scan->count) {
-    case 181u:
-        field = 180u;
-        step = 100u;
-        break;
-    case 361u:
-        field = 180u;
-        step = 50u;
-        break;
-    case 101u:
-        field = 100u;
-        step = 100u;
-        break;
-    case 201u:
-        field = 100u;
-        step = 50u;
-        break;
-    case 401u:
-        field = 100u;
-        step = 25u;
-        break;
-    default:
-        return LMS_ERR_VALUE;
+    for (size_t k = 0u; k < sizeof variants / sizeof variants[0]; k++) {
+        if (variants[k].count != scan->count) {
+            continue;
+        }
+        if (scan->is_partial && variants[k].step_cdeg != 100u) {
+            return LMS_ERR_VALUE; /* partial scans are single 1-degree sweeps */
+        }
+        out->field_deg = variants[k].field_deg;
+        out->step_cdeg = variants[k].step_cdeg;
+        /* A 100-degree field is centred ahead: 40 .. 140 degrees. */
+        out->start_cdeg = (uint16_t)((out->field_deg == 180u ? 0u : 4000u) +
+                                     (scan->is_partial ? 25u * scan->partial_index : 0u));
+        return LMS_OK;
     }
-    if (scan->is_partial && step != 100u) {
-        /* Partial scans are single 1-degree sweeps. */
-        return LMS_ERR_VALUE;
-    }
-    out->field_deg = field;
-    out->step_cdeg = step;
-    out->start_cdeg = (uint16_t)((field == 180u ? 0u : 4000u) +
-                                 (scan->is_partial ? 25u * scan->partial_index : 0u));
-    return LMS_OK;
+    return LMS_ERR_VALUE;
 }
 
 lms_status_t lms_decode_mode_reply(const uint8_t *bytes, size_t len, lms_mode_reply_t *out)
