@@ -10,12 +10,13 @@ if(NOT LMSEGO_ARM_GCC)
     return()
 endif()
 
-set(LMSEGO_PORTABLE_SOURCES ${LMS_DRIVER_SOURCES_ABS})
+set(LMSEGO_PORTABLE_SOURCES ${LMS_DRIVER_SOURCES_ABS} ${LMS_ESTIMATOR_SOURCES_ABS}
+    ${EGO_FIRMWARE_SOURCES_ABS})
 add_test(NAME portable_cortex_m3
     COMMAND ${CMAKE_COMMAND}
         -DCC=${LMSEGO_ARM_GCC}
         "-DSOURCES=${LMSEGO_PORTABLE_SOURCES}"
-        -DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/driver
+        "-DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/driver;${PROJECT_SOURCE_DIR}/estimator;${PROJECT_SOURCE_DIR}/firmware"
         -DOUT_DIR=${CMAKE_BINARY_DIR}/portable_cortex_m3
         -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
 set_tests_properties(portable_cortex_m3 PROPERTIES LABELS "portability")

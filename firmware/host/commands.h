@@ -11,4 +11,8 @@ int cmd_stats(const cli_command_t *self, int argc, char **argv);
 /* lmsego scans [--mode HEX] FILE: one line per decoded B0 scan. */
 int cmd_scans(const cli_command_t *self, int argc, char **argv);
 
+/* lmsego replay [--period S] [--mount X,Y,DEG] [--mode HEX] FILE: the
+ * firmware loop over a recording; ego-motion CSV on stdout. */
+int cmd_replay(const cli_command_t *self, int argc, char **argv);
+
 #endif /* LMSEGO_COMMANDS_H */

@@ -1,0 +1,195 @@
+/* ego.c - see ego.h. */
+#include "ego.h"
+
+#include <stddef.h>
+#include <string.h>
+
+/* round(2 pi * 2^16): radians in Q16.16 per 2^32 binary angle units. */
+#define RAD_Q16_PER_TURN 411775
+#define US_PER_S 1000000
+
+void ego_defaults(ego_params_t *params)
+{
+    memset(params, 0, sizeof *params);
+    ego_prep_defaults(&params->prep);
+    tfit_defaults(&params->tfit);
+    hist_defaults(&params->hist);
+    itcp_defaults(&params->itcp);
+    params->max_rotation_bins = (uint16_t)(HIST_BINS / 4u); /* 45 deg */
+    params->merge_bins = (uint16_t)(HIST_BINS / 60u);       /* 3 deg */
+    params->min_correlation = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 3);
+    params->min_points = 20u;
+    params->max_gap_us = 1000000u;
+}
+
+void ego_reset(ego_state_t *state)
+{
+    state->have_last = false;
+    state->last = 0u;
+    state->last_time_us = 0u;
+    memset(&state->motion, 0, sizeof state->motion);
+    state->motion_dt_us = 0u;
+}
+
+/* The last motion scaled to a scan interval of dt_us. */
+static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
+{
+    ego_pose_t p = {0u, 0, 0};
+    if (state->motion_dt_us == 0u) {
+        return p;
+    }
+    const int64_t num = dt_us;
+    const int64_t den = state->motion_dt_us;
+    p.x = fx_sat_s32((int64_t)state->motion.x * num / den);
+    p.y = fx_sat_s32((int64_t)state->motion.y * num / den);
+    p.theta = (fx_bam32_t)(uint32_t)fx_sat_s32(
+        (int64_t)fx_bam32_diff(state->motion.theta, 0u) * num / den);
+    return p;
+}
+
+static void set_velocities(ego_output_t *out)
+{
+    const int64_t dt = out->dt_us;
+    out->vx = fx_sat_s32((int64_t)out->pose.x * US_PER_S / dt);
+    out->vy = fx_sat_s32((int64_t)out->pose.y * US_PER_S / dt);
+    /* theta (2^32 a turn) -> rad/s in Q16.16, in two steps to stay in
+     * int64: |theta| * 411775 < 2^50, then * 10^6 / 2^32. */
+    const int64_t per_us = (int64_t)fx_bam32_diff(out->pose.theta, 0u) * RAD_Q16_PER_TURN / dt;
+    out->omega = fx_sat_s32(per_us * US_PER_S / 4294967296LL);
+}
+
+/* pose += ((predicted - pose) . d) d, d the unit vector of direction. */
+static void keep_prediction_along(ego_pose_t *pose, const ego_pose_t *predicted,
+                                  fx_bam32_t direction)
+{
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(direction, &s, &c);
+    const fx_q16_16_t ex = fx_sub_q16(predicted->x, pose->x);
+    const fx_q16_16_t ey = fx_sub_q16(predicted->y, pose->y);
+    const fx_q16_16_t along = fx_add_q16(fx_mul_q16_q30(ex, c), fx_mul_q16_q30(ey, s));
+    pose->x = fx_add_q16(pose->x, fx_mul_q16_q30(along, c));
+    pose->y = fx_add_q16(pose->y, fx_mul_q16_q30(along, s));
+}
+
+/* Is a better than b: registered, more inliers, then a smaller residual. */
+static bool better(itcp_status_t sa, const itcp_result_t *a, itcp_status_t sb,
+                   const itcp_result_t *b)
+{
+    if (sa != ITCP_OK) {
+        return false;
+    }
+    if (sb != ITCP_OK) {
+        return true;
+    }
+    if (a->inliers != b->inliers) {
+        return a->inliers > b->inliers;
+    }
+    return a->residual < b->residual;
+}
+
+ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const lms_scan_t *scan,
+                         uint32_t time_us, ego_output_t *out)
+{
+    if (state == NULL || params == NULL || scan == NULL || out == NULL) {
+        return EGO_ERR_ARG;
+    }
+    memset(out, 0, sizeof *out);
+    const uint8_t cur = state->have_last ? (uint8_t)(1u - state->last) : state->last;
+    ego_scan_t *current = &state->slot[cur];
+    if (ego_scan_prepare(scan, &params->prep, current) != EGO_PREP_OK) {
+        return EGO_ERR_SCAN;
+    }
+    tfit_fit_scan(current, &params->tfit);
+    (void)hist_build(current, &params->hist, &state->hist[cur]);
+    out->points = current->count;
+
+    const uint32_t dt = time_us - state->last_time_us;
+    if (!state->have_last || dt == 0u || dt > params->max_gap_us) {
+        out->flags = EGO_FLAG_FIRST;
+        state->have_last = true;
+        state->last = cur;
+        state->last_time_us = time_us;
+        memset(&state->motion, 0, sizeof state->motion);
+        state->motion_dt_us = 0u;
+        return EGO_OK;
+    }
+    out->dt_us = dt;
+    const ego_scan_t *last = &state->slot[state->last];
+    const ego_pose_t predicted = predict(state, dt);
+
+    bool matched = false;
+    if (current->count >= params->min_points && last->count >= params->min_points) {
+        hist_match_t hm;
+        hist_correlate(&state->hist[cur], &state->hist[state->last], params->max_rotation_bins,
+                       params->merge_bins, &hm);
+        /* Candidates: the histogram's peaks, plus the predicted rotation
+         * when the histogram is not trustworthy. */
+        fx_bam32_t rotation[HIST_MAX_CANDIDATES + 1u];
+        fx_q2_30_t correlation[HIST_MAX_CANDIDATES + 1u];
+        uint8_t n = 0u;
+        for (uint8_t k = 0u; k < hm.count; k++) {
+            rotation[n] = hm.candidate[k].rotation;
+            correlation[n] = hm.candidate[k].correlation;
+            n++;
+        }
+        if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
+            out->flags |= EGO_FLAG_LOW_CORRELATION;
+            rotation[n] = predicted.theta;
+            correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+            n++;
+        }
+        const fx_bam32_t main_direction = hist_main_direction(&state->hist[state->last]);
+        itcp_result_t best;
+        itcp_status_t best_status = ITCP_ERR_FEW_MATCHES;
+        memset(&best, 0, sizeof best);
+        uint8_t best_k = 0u;
+        for (uint8_t k = 0u; k < n; k++) {
+            /* The paper's stages: translation with the rotation held, then
+             * everything. */
+            const ego_pose_t start = {rotation[k], predicted.x, predicted.y};
+            itcp_result_t held;
+            itcp_result_t r;
+            itcp_status_t st = itcp_register(last, current, main_direction, &start, true,
+                                             &params->itcp, &held);
+            const ego_pose_t second = (st == ITCP_OK) ? held.pose : start;
+            st = itcp_register(last, current, main_direction, &second, false, &params->itcp, &r);
+            if (better(st, &r, best_status, &best)) {
+                best = r;
+                best_status = st;
+                best_k = k;
+            }
+        }
+        out->candidates = n;
+        if (best_status == ITCP_OK) {
+            matched = true;
+            out->pose = best.pose;
+            out->iterations = best.iterations;
+            out->matches = best.matches;
+            out->n_main = best.n_main;
+            out->n_non_main = best.n_non_main;
+            out->inliers = best.inliers;
+            out->residual = best.residual;
+            out->correlation = correlation[best_k];
+            if (best.aperture) {
+                /* Along a corridor the scans cannot tell how far the vehicle
+                 * went: keep the measured motion across the main direction
+                 * and take the predicted one along it. */
+                out->flags |= EGO_FLAG_APERTURE;
+                keep_prediction_along(&out->pose, &predicted, main_direction);
+            }
+            out->flags |= best.converged ? 0u : EGO_FLAG_NOT_CONVERGED;
+        }
+    }
+    if (!matched) {
+        out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
+        out->pose = predicted;
+    }
+    set_velocities(out);
+
+    state->motion = out->pose;
+    state->motion_dt_us = dt;
+    state->last = cur;
+    state->last_time_us = time_us;
+    return EGO_OK;
+}

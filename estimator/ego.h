@@ -1,0 +1,105 @@
+/* ego.h - the whole estimator: one LMS scan in, the vehicle's ego-motion
+ * since the previous scan out (paper section 2.2, with the additions of
+ * docs/estimator.md).
+ *
+ * Per scan:
+ *  1. prepare the points (ego_scan.h) and their robust tangents (tfit.h);
+ *  2. build the current scan's angle histogram (hist.h, HTAH by default)
+ *     and correlate it with the last scan's: up to HIST_MAX_CANDIDATES
+ *     rotation candidates, best first;
+ *  3. for each candidate: ITCP with the rotation held (translation only,
+ *     from the predicted translation, i.e. the last motion), then full
+ *     ITCP (itcp.h); keep the candidate with the most inliers;
+ *  4. the relative pose of this scan in the frame of the last, and the
+ *     velocities pose / dT.
+ * The prepared scans live in two slots of the caller's state that swap
+ * roles each scan; nothing is copied.
+ *
+ * Failure is reported, not hidden: too few points, no usable histogram
+ * correlation or a failed registration give a flag, and the output then
+ * carries the last motion (scaled to this scan's dT) instead of a jump.
+ * A time gap longer than max_gap_us, a reset or the first scan start over:
+ * flag EGO_FLAG_FIRST, no motion.
+ *
+ * Static memory: ego_state_t is about 2 x (ego_scan_t + hist_t); see
+ * docs/estimator.md for the figures. Not reentrant per state.
+ */
+#ifndef EGO_H
+#define EGO_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "ego_pose.h"
+#include "ego_scan.h"
+#include "hist.h"
+#include "itcp.h"
+#include "lms_decode.h"
+#include "tfit.h"
+
+/* Output flags. */
+#define EGO_FLAG_FIRST 0x01u           /* first scan, reset or gap: no motion */
+#define EGO_FLAG_APERTURE 0x02u        /* n_non / n_main small: a corridor */
+#define EGO_FLAG_NOT_CONVERGED 0x04u   /* ITCP hit its iteration cap */
+#define EGO_FLAG_LOW_CORRELATION 0x08u /* histogram correlation below min */
+#define EGO_FLAG_TOO_FEW_POINTS 0x10u  /* scan or matches too sparse: motion predicted */
+#define EGO_FLAG_PREDICTED 0x20u       /* the output is the last motion, not a match */
+
+typedef struct {
+    ego_prep_params_t prep;
+    tfit_params_t tfit;
+    hist_params_t hist;
+    itcp_params_t itcp;
+    uint16_t max_rotation_bins;  /* correlation search, default 225 (45 deg) */
+    uint16_t merge_bins;         /* candidates closer merge, default 15 (3 deg) */
+    fx_q2_30_t min_correlation;  /* below: EGO_FLAG_LOW_CORRELATION, default 0.3 */
+    uint16_t min_points;         /* fewer: EGO_FLAG_TOO_FEW_POINTS, default 20 */
+    uint32_t max_gap_us;         /* longer between scans: start over, default 1 s */
+} ego_params_t;
+
+void ego_defaults(ego_params_t *params);
+
+typedef struct {
+    /* Private. */
+    ego_scan_t slot[2];
+    hist_t hist[2];
+    uint8_t last;            /* slot of the last scan */
+    bool have_last;
+    uint32_t last_time_us;
+    ego_pose_t motion;       /* last relative pose, for the prediction */
+    uint32_t motion_dt_us;
+} ego_state_t;
+
+typedef struct {
+    ego_pose_t pose;          /* this scan in the frame of the last one */
+    uint32_t dt_us;           /* time since the last scan */
+    fx_q16_16_t vx;           /* m/s, vehicle frame of the last scan */
+    fx_q16_16_t vy;
+    fx_q16_16_t omega;        /* rad/s */
+    uint16_t flags;           /* EGO_FLAG_* */
+    uint8_t iterations;       /* ITCP iterations of the chosen candidate */
+    uint8_t candidates;       /* rotation candidates tried */
+    uint16_t points;          /* prepared points of this scan */
+    uint16_t matches;
+    uint16_t n_main;
+    uint16_t n_non_main;
+    uint16_t inliers;
+    fx_q16_16_t residual;     /* RMS match distance, m */
+    fx_q2_30_t correlation;   /* histogram correlation of the chosen rotation */
+} ego_output_t;
+
+/* Starts over: the next scan is a first scan. */
+void ego_reset(ego_state_t *state);
+
+typedef enum {
+    EGO_OK = 0,
+    EGO_ERR_ARG = -1,   /* NULL pointer */
+    EGO_ERR_SCAN = -2   /* the LMS scan has no usable layout: state unchanged */
+} ego_status_t;
+
+/* Processes one scan taken at time_us (a free-running microsecond clock;
+ * wrap-around is fine). */
+ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const lms_scan_t *scan,
+                         uint32_t time_us, ego_output_t *out);
+
+#endif /* EGO_H */

@@ -1,0 +1,28 @@
+/* ego_pose.h - a 2-D rigid transform in fixed point.
+ *
+ * The relative pose of a scan maps its points into the frame of the
+ * previous scan: P' = R(theta) P + (x, y). It is the vehicle's motion
+ * between the two scans, in the frame of the earlier one.
+ */
+#ifndef EGO_POSE_H
+#define EGO_POSE_H
+
+#include "fx.h"
+#include "fx_math.h"
+
+typedef struct {
+    fx_bam32_t theta; /* rotation, binary angle (signed via fx_bam32_diff) */
+    fx_q16_16_t x;    /* translation, metres */
+    fx_q16_16_t y;
+} ego_pose_t;
+
+/* R(theta) (px, py) + (x, y), with sin/cos of theta given (Q2.30). */
+static inline void ego_pose_apply(const ego_pose_t *pose, fx_q2_30_t s, fx_q2_30_t c,
+                                  fx_q16_16_t px, fx_q16_16_t py, fx_q16_16_t *qx,
+                                  fx_q16_16_t *qy)
+{
+    *qx = fx_add_q16(pose->x, fx_sub_q16(fx_mul_q16_q30(px, c), fx_mul_q16_q30(py, s)));
+    *qy = fx_add_q16(pose->y, fx_add_q16(fx_mul_q16_q30(px, s), fx_mul_q16_q30(py, c)));
+}
+
+#endif /* EGO_POSE_H */

@@ -1,0 +1,92 @@
+/* ego_scan.h - scan preparation: LMS values -> points in the vehicle frame.
+ *
+ * One ego_scan_t holds a whole prepared scan: Cartesian points (x forward,
+ * y left, metres, Q16.16) in the vehicle frame, in scan order, with the
+ * segment structure the later stages need, and (filled by tfit.h) a robust
+ * tangent per point. Special values (no return, dazzle, beyond max, ...)
+ * and ranges outside [min_range, max_range] give no point; the gap they
+ * leave breaks the segment.
+ *
+ * Segments: consecutive points belong to one segment unless
+ *  - a value between them gave no point (a gap),
+ *  - the range jumps by more than max(jump_min, jump_factor * r * dphi)
+ *    (r the nearer range, dphi the beam step), or
+ *  - the segment between them is an occlusion edge: seen from the scanner
+ *    the segment is nearly parallel to the beams (the sharp-angle criterion:
+ *    the angle at its far end is below occlusion_angle), so it joins two
+ *    different surfaces rather than following one.
+ * Points are numbered in scan order; flags[i] says what lies between point
+ * i and point i + 1.
+ *
+ * All memory is the caller's; no allocation; bounded loops (one pass over
+ * the values). Pure function of its inputs.
+ */
+#ifndef EGO_SCAN_H
+#define EGO_SCAN_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "ego_config.h"
+#include "fx.h"
+#include "lms_decode.h"
+
+/* flags[i]: the link from point i to point i + 1. */
+#define EGO_LINK_BREAK 0x01u     /* not the same segment (any reason below) */
+#define EGO_LINK_GAP 0x02u       /* values without a point lie between them */
+#define EGO_LINK_JUMP 0x04u      /* range jump */
+#define EGO_LINK_OCCLUSION 0x08u /* occlusion edge (sharp angle) */
+/* flags[i], set by tfit: point i has a robust tangent. */
+#define EGO_POINT_HAS_TANGENT 0x10u
+
+typedef struct {
+    uint16_t count;                      /* points, <= EGO_MAX_POINTS */
+    uint16_t values;                     /* LMS values the scan had */
+    fx_q16_16_t origin_x;                /* the scanner in the vehicle frame */
+    fx_q16_16_t origin_y;
+    fx_q16_16_t x[EGO_MAX_POINTS];       /* vehicle frame, metres */
+    fx_q16_16_t y[EGO_MAX_POINTS];
+    fx_bam32_t bearing[EGO_MAX_POINTS];  /* beam direction from the origin,
+                                            vehicle frame; increases along
+                                            the scan */
+    uint8_t flags[EGO_MAX_POINTS];       /* EGO_LINK_* | EGO_POINT_* */
+    /* Filled by tfit_fit_scan (tfit.h). */
+    fx_bam32_t tangent[EGO_MAX_POINTS];  /* direction mod 180 deg: bit 31 is 0 */
+    uint16_t tangent_rms[EGO_MAX_POINTS];/* weighted RMS residual of the fit,
+                                            Q16.16 metres saturated to 65535 */
+} ego_scan_t;
+
+/* Mounting pose of the scanner on the vehicle, and the preparation
+ * thresholds. ego_prep_defaults() gives the values of docs/estimator.md. */
+typedef struct {
+    fx_q16_16_t mount_x;         /* scanner origin in the vehicle frame, m */
+    fx_q16_16_t mount_y;
+    fx_bam32_t mount_theta;      /* scanner x axis (its 90-deg beam) in the
+                                    vehicle frame */
+    fx_q16_16_t min_range;       /* shorter ranges give no point, m */
+    fx_q16_16_t max_range;       /* longer ranges give no point, m */
+    fx_q16_16_t jump_min;        /* range jump that always breaks, m */
+    uint16_t jump_factor;        /* ... or jump_factor * r * dphi */
+    fx_q2_30_t occlusion_sin;    /* sin of the occlusion angle */
+    uint8_t meas_mode;           /* lms_meas_mode_t of the scanner */
+} ego_prep_params_t;
+
+void ego_prep_defaults(ego_prep_params_t *params);
+
+typedef enum {
+    EGO_PREP_OK = 0,
+    EGO_PREP_ERR_ARG = -1,    /* NULL pointer or a bad measuring mode */
+    EGO_PREP_ERR_LAYOUT = -2  /* the value count is not an LMS variant */
+} ego_prep_status_t;
+
+/* Prepares scan from an LMS B0 scan. */
+ego_prep_status_t ego_scan_prepare(const lms_scan_t *lms, const ego_prep_params_t *params,
+                                   ego_scan_t *scan);
+
+/* True when points i and i + 1 (i + 1 < count) are in the same segment. */
+static inline bool ego_scan_linked(const ego_scan_t *scan, uint16_t i)
+{
+    return (scan->flags[i] & EGO_LINK_BREAK) == 0u;
+}
+
+#endif /* EGO_SCAN_H */

@@ -1,0 +1,362 @@
+/* hist.c - see hist.h. */
+#include "hist.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "fx_math.h"
+
+/* Local maxima of the correlation kept before choosing candidates. */
+#define PEAKS_MAX 16u
+/* Bins are scaled to at most this before correlating (see hist.h). */
+#define SCALED_MAX 0x8000u
+
+void hist_defaults(hist_params_t *params)
+{
+    memset(params, 0, sizeof *params);
+    params->kind = HIST_HTAH;
+    params->half_window = 3u;
+    params->t_line = FX_Q16_16_C(0.05);
+    params->aoi = NULL;
+}
+
+uint16_t hist_bin_of(fx_bam32_t direction)
+{
+    const uint32_t half = direction & (FX_BAM32_HALF - 1u); /* mod 180 deg */
+    return (uint16_t)(((uint64_t)half * HIST_BINS) >> 31);
+}
+
+fx_bam32_t hist_bin_centre(uint16_t b)
+{
+    /* (b + 1/2) * 2^31 / HIST_BINS, rounded. */
+    const uint64_t twice = (uint64_t)(2u * b + 1u) << 30;
+    return (fx_bam32_t)((twice + HIST_BINS / 2u) / HIST_BINS);
+}
+
+/* Direction of the segment from point i to i + 1, mod 180 deg. */
+static fx_bam32_t segment_direction(const ego_scan_t *scan, uint16_t i)
+{
+    const int64_t dx = (int64_t)scan->x[i + 1u] - scan->x[i];
+    const int64_t dy = (int64_t)scan->y[i + 1u] - scan->y[i];
+    return fx_atan2(dy, dx) & (FX_BAM32_HALF - 1u);
+}
+
+static uint32_t segment_length_mm(const ego_scan_t *scan, uint16_t i)
+{
+    const int64_t dx = (int64_t)scan->x[i + 1u] - scan->x[i];
+    const int64_t dy = (int64_t)scan->y[i + 1u] - scan->y[i];
+    const uint64_t len = fx_sqrt_u64((uint64_t)(dx * dx + dy * dy)); /* Q16.16 m */
+    return (uint32_t)((len * 1000u + 0x8000u) >> 16);
+}
+
+/* Is the segment from i to i + 1 a surface (linked, not an occlusion)? */
+static bool is_surface(const ego_scan_t *scan, uint16_t i)
+{
+    return (scan->flags[i] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) == 0u;
+}
+
+/* Are points i - n .. i + n all in one segment? */
+static bool has_full_window(const ego_scan_t *scan, uint16_t i, uint8_t n)
+{
+    if (i < n || (uint32_t)i + n >= scan->count) {
+        return false;
+    }
+    for (uint16_t j = (uint16_t)(i - n); j < i + n; j++) {
+        if (!ego_scan_linked(scan, j)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Eq. 7 for the line through P[i] along the centre of bin b. */
+static bool is_collinear(const ego_scan_t *scan, uint16_t i, uint8_t n, fx_q16_16_t t_line,
+                         uint16_t b)
+{
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(hist_bin_centre(b), &s, &c);
+    /* Distances relative to P[i]: d_j = (y_j - y_i) c - (x_j - x_i) s. */
+    fx_q16_16_t d[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u] = {0};
+    if (n > EGO_TFIT_MAX_HALF_WINDOW) {
+        return false;
+    }
+    const uint16_t first = (uint16_t)(i - n);
+    const uint16_t count = (uint16_t)(2u * n + 1u);
+    for (uint16_t k = 0u; k < count; k++) {
+        const fx_q16_16_t rx = fx_sub_q16(scan->x[first + k], scan->x[i]);
+        const fx_q16_16_t ry = fx_sub_q16(scan->y[first + k], scan->y[i]);
+        d[k] = fx_sub_q16(fx_mul_q16_q30(ry, c), fx_mul_q16_q30(rx, s));
+    }
+    const int64_t mid2 = (int64_t)d[0] + d[count - 1u]; /* 2 d' */
+    for (uint16_t k = 0u; k < count; k++) {
+        const int64_t dev2 = 2 * (int64_t)d[k] - mid2;
+        if (dev2 > 2 * (int64_t)t_line || dev2 < -2 * (int64_t)t_line) {
+            return false;
+        }
+    }
+    return true;
+}
+
+static uint16_t bin_step(uint16_t b, int direction)
+{
+    if (direction > 0) {
+        return (uint16_t)((b + 1u == HIST_BINS) ? 0u : b + 1u);
+    }
+    return (uint16_t)((b == 0u) ? HIST_BINS - 1u : b - 1u);
+}
+
+/* HTAH votes of point i: the contiguous run of passing bins around its
+ * tangent. At most HIST_BINS tests. */
+static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_t *p, hist_t *h)
+{
+    const uint16_t start = hist_bin_of(scan->tangent[i]);
+    if (!is_collinear(scan, i, p->half_window, p->t_line, start)) {
+        return 0u;
+    }
+    h->bin[start]++;
+    uint32_t votes = 1u;
+    uint16_t up = start;
+    for (;;) { /* upwards */
+        const uint16_t next = bin_step(up, +1);
+        if (next == start || !is_collinear(scan, i, p->half_window, p->t_line, next)) {
+            break;
+        }
+        h->bin[next]++;
+        votes++;
+        up = next;
+    }
+    uint16_t down = start;
+    for (;;) { /* downwards, not into the upward run */
+        const uint16_t next = bin_step(down, -1);
+        if (next == up || !is_collinear(scan, i, p->half_window, p->t_line, next)) {
+            break;
+        }
+        h->bin[next]++;
+        votes++;
+        down = next;
+    }
+    return votes;
+}
+
+uint32_t hist_build(const ego_scan_t *scan, const hist_params_t *params, hist_t *h)
+{
+    memset(h, 0, sizeof *h);
+    uint32_t votes = 0u;
+    uint8_t n = params->half_window;
+    n = (n < 1u) ? 1u : (n > EGO_TFIT_MAX_HALF_WINDOW ? EGO_TFIT_MAX_HALF_WINDOW : n);
+
+    switch (params->kind) {
+    case HIST_AH:
+    case HIST_LAH:
+        for (uint16_t i = 0u; i + 1u < scan->count; i++) {
+            if (!is_surface(scan, i)) {
+                continue;
+            }
+            const uint16_t b = hist_bin_of(segment_direction(scan, i));
+            h->bin[b] += (params->kind == HIST_AH) ? 1u : segment_length_mm(scan, i);
+            votes++;
+        }
+        break;
+    case HIST_HAH:
+        for (uint16_t i = 0u; i < scan->count; i++) {
+            if (!has_full_window(scan, i, n)) {
+                continue;
+            }
+            for (uint16_t b = 0u; b < HIST_BINS; b++) {
+                if ((params->aoi == NULL || params->aoi[b] != 0u) &&
+                    is_collinear(scan, i, n, params->t_line, b)) {
+                    h->bin[b]++;
+                    votes++;
+                }
+            }
+        }
+        break;
+    case HIST_HTAH:
+        for (uint16_t i = 0u; i < scan->count; i++) {
+            if ((scan->flags[i] & EGO_POINT_HAS_TANGENT) != 0u && has_full_window(scan, i, n)) {
+                votes += vote_htah(scan, i, params, h);
+            }
+        }
+        break;
+    }
+    return votes;
+}
+
+void hist_aoi_mask(const hist_t *h, uint32_t threshold, uint16_t widen, uint8_t *mask)
+{
+    memset(mask, 0, HIST_BINS);
+    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+        if (h->bin[b] < threshold || h->bin[b] == 0u) {
+            continue;
+        }
+        for (int32_t k = -(int32_t)widen; k <= (int32_t)widen; k++) {
+            const int32_t m = ((int32_t)b + k + (int32_t)HIST_BINS * 2) % (int32_t)HIST_BINS;
+            mask[m] = 1u;
+        }
+    }
+}
+
+fx_bam32_t hist_main_direction(const hist_t *h)
+{
+    uint16_t best = 0u;
+    for (uint16_t b = 1u; b < HIST_BINS; b++) {
+        if (h->bin[b] > h->bin[best]) {
+            best = b;
+        }
+    }
+    return hist_bin_centre(best);
+}
+
+/* A histogram seen centred and scaled: a[i] = HIST_BINS * (bin[i] >>
+ * shift) - sum, with shift chosen so that no scaled bin exceeds SCALED_MAX.
+ * Then |a[i]| < 2^25 and every sum of HIST_BINS products is below 2^60.
+ * The values are computed on the fly: no scan-sized copy. */
+typedef struct {
+    const uint32_t *bin;
+    unsigned shift;
+    int64_t sum;
+} centred_t;
+
+static centred_t centre(const hist_t *h)
+{
+    uint32_t max = 0u;
+    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+        max = (h->bin[b] > max) ? h->bin[b] : max;
+    }
+    centred_t c = {h->bin, 0u, 0};
+    while ((max >> c.shift) > SCALED_MAX) {
+        c.shift++;
+    }
+    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+        c.sum += (int64_t)(h->bin[b] >> c.shift);
+    }
+    return c;
+}
+
+static int64_t centred_at(const centred_t *c, uint32_t i)
+{
+    return (int64_t)HIST_BINS * (int64_t)(c->bin[i] >> c->shift) - c->sum;
+}
+
+/* sum_i a[i] b[i + shift], indices modulo HIST_BINS. */
+static int64_t dot_shifted(const centred_t *a, const centred_t *b, int32_t shift)
+{
+    int64_t sum = 0;
+    uint32_t k = (uint32_t)((shift % (int32_t)HIST_BINS + (int32_t)HIST_BINS) % (int32_t)HIST_BINS);
+    for (uint32_t i = 0u; i < HIST_BINS; i++) {
+        sum += centred_at(a, i) * centred_at(b, k);
+        k = (k + 1u == HIST_BINS) ? 0u : k + 1u;
+    }
+    return sum;
+}
+
+/* num / den as Q2.30, |num| <= den (Cauchy-Schwarz), den > 0. */
+static fx_q2_30_t ratio_q30(int64_t num, int64_t den)
+{
+    while (den >= ((int64_t)1 << 31)) {
+        num /= 2;
+        den /= 2;
+    }
+    if (den == 0) {
+        return 0;
+    }
+    return (fx_q2_30_t)((num * ((int64_t)1 << 30)) / den);
+}
+
+typedef struct {
+    int32_t shift;
+    int64_t value;
+    int64_t left;
+    int64_t right;
+} peak_t;
+
+/* Keeps the PEAKS_MAX largest local maxima, sorted, largest first. */
+static void keep_peak(peak_t *peaks, uint8_t *count, const peak_t *p)
+{
+    uint8_t at = *count;
+    while (at > 0u && peaks[at - 1u].value < p->value) {
+        at--;
+    }
+    if (at >= PEAKS_MAX) {
+        return;
+    }
+    const uint8_t last = (*count < PEAKS_MAX) ? *count : (uint8_t)(PEAKS_MAX - 1u);
+    for (uint8_t k = last; k > at; k--) {
+        peaks[k] = peaks[k - 1u];
+    }
+    peaks[at] = *p;
+    if (*count < PEAKS_MAX) {
+        (*count)++;
+    }
+}
+
+/* Rotation of a peak, refined by the parabola through its neighbours. */
+static fx_bam32_t peak_rotation(const peak_t *p)
+{
+    const int64_t curv = p->left - 2 * p->value + p->right; /* < 0 at a maximum */
+    int64_t offset_q16 = 0;
+    if (curv < 0) {
+        /* (left - right) / (2 curv) in bins, Q16; within (-1/2, 1/2]. */
+        int64_t num = p->left - p->right;
+        int64_t den = 2 * curv;
+        while (num > ((int64_t)1 << 46) || num < -((int64_t)1 << 46)) {
+            num /= 2;
+            den /= 2;
+        }
+        if (den != 0) {
+            offset_q16 = (num * 65536) / den;
+        }
+        offset_q16 = (offset_q16 > 32768) ? 32768 : (offset_q16 < -32768 ? -32768 : offset_q16);
+    }
+    /* (shift + offset) bins * 2^31 / HIST_BINS; wraps modulo a turn. */
+    const int64_t bins_q16 = (int64_t)p->shift * 65536 + offset_q16;
+    const int64_t bam = (bins_q16 * ((int64_t)1 << 15)) / (int64_t)HIST_BINS;
+    return (fx_bam32_t)(uint64_t)bam;
+}
+
+void hist_correlate(const hist_t *current, const hist_t *last, uint16_t max_shift_bins,
+                    uint16_t merge_bins, hist_match_t *match)
+{
+    memset(match, 0, sizeof *match);
+    const centred_t a = centre(current);
+    const centred_t b = centre(last);
+    const int64_t na = dot_shifted(&a, &a, 0);
+    const int64_t nb = dot_shifted(&b, &b, 0);
+    if (na == 0 || nb == 0) {
+        return; /* a flat histogram has no direction */
+    }
+    const int64_t den = (int64_t)fx_sqrt_u64((uint64_t)na) * (int64_t)fx_sqrt_u64((uint64_t)nb);
+    const int32_t limit =
+        (int32_t)((max_shift_bins < HIST_BINS / 2u) ? max_shift_bins : HIST_BINS / 2u - 1u);
+
+    peak_t peaks[PEAKS_MAX];
+    uint8_t npeaks = 0u;
+    int64_t before = dot_shifted(&a, &b, -limit - 1);
+    int64_t here = dot_shifted(&a, &b, -limit);
+    for (int32_t j = -limit; j <= limit; j++) {
+        const int64_t after = dot_shifted(&a, &b, j + 1);
+        if (here > before && here >= after) {
+            const peak_t p = {j, here, before, after};
+            keep_peak(peaks, &npeaks, &p);
+        }
+        before = here;
+        here = after;
+    }
+    /* Best first; a peak within merge_bins of a better one kept is dropped. */
+    int32_t kept[HIST_MAX_CANDIDATES] = {0};
+    for (uint8_t k = 0u; k < npeaks && match->count < HIST_MAX_CANDIDATES; k++) {
+        bool near = false;
+        for (uint8_t m = 0u; m < match->count; m++) {
+            const int32_t gap = peaks[k].shift - kept[m];
+            near = near || (gap <= (int32_t)merge_bins && gap >= -(int32_t)merge_bins);
+        }
+        if (near) {
+            continue;
+        }
+        kept[match->count] = peaks[k].shift;
+        hist_candidate_t *c = &match->candidate[match->count++];
+        c->rotation = peak_rotation(&peaks[k]);
+        c->correlation = ratio_q30(peaks[k].value, den);
+    }
+}

@@ -1,0 +1,532 @@
+/* itcp.c - see itcp.h. */
+#include "itcp.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "fx_math.h"
+
+/* How far past the end of an artificially ended surface a point may still
+ * be matched to the end: the range noise of the scanner, not more. */
+#define END_TOLERANCE FX_Q16_16_C(0.02)
+
+void itcp_defaults(itcp_params_t *params)
+{
+    memset(params, 0, sizeof *params);
+    params->weighted = true;
+    params->tangent_gate = true;
+    params->gate = FX_BAM32_DEG_C(25.0);
+    params->main_tolerance = FX_BAM32_DEG_C(10.0);
+    params->radius_start = FX_Q16_16_C(0.6);
+    params->radius_min = FX_Q16_16_C(0.15);
+    params->radius_shrink = (fx_q2_30_t)(FX_Q2_30_ONE / 4 * 3); /* 0.75 */
+    params->max_iterations = 30u;
+    params->converge_translation = FX_Q16_16_C(0.0001);
+    params->converge_rotation = FX_BAM32_DEG_C(0.001);
+    params->inlier_distance = FX_Q16_16_C(0.10);
+    params->aperture_ratio = (fx_q2_30_t)(FX_Q2_30_ONE / 5);
+    params->min_matches = 10u;
+}
+
+/* Distance between two line directions, modulo 180 deg, as a binary angle
+ * in [0, 90 deg]. */
+static fx_bam32_t line_angle_diff(fx_bam32_t a, fx_bam32_t b)
+{
+    const uint32_t d = (a - b) & (FX_BAM32_HALF - 1u);
+    return (d > FX_BAM32_QUARTER) ? FX_BAM32_HALF - d : d;
+}
+
+static void sums_add(itcp_group_sums_t *s, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
+                     fx_q16_16_t v)
+{
+    s->n++;
+    s->sx += x;
+    s->sy += y;
+    s->su += u;
+    s->sv += v;
+    s->sxu += (int64_t)x * u;
+    s->sxv += (int64_t)x * v;
+    s->syu += (int64_t)y * u;
+    s->syv += (int64_t)y * v;
+}
+
+/* What one matching pass found. */
+typedef struct {
+    itcp_sums_t sums;
+    uint32_t inliers;
+    uint64_t sum_sq; /* of match distances, Q32.32 */
+} pass_t;
+
+/* Context of a matching pass. */
+typedef struct {
+    const ego_scan_t *last;
+    const itcp_params_t *params;
+    fx_bam32_t ref;          /* middle bearing of the last scan */
+    fx_bam32_t main_direction;
+    fx_q16_16_t radius;
+} matcher_t;
+
+/* Closest point to (qx, qy) on segment j -> j + 1 of the last scan; its
+ * squared distance (Q32.32), the fraction along the segment (Q2.30) and,
+ * when the projection falls outside the segment, how far beyond its end
+ * (Q16.16 m; 0 inside). */
+static uint64_t closest_on_segment(const ego_scan_t *l, uint16_t j, fx_q16_16_t qx,
+                                   fx_q16_16_t qy, fx_q16_16_t *cx, fx_q16_16_t *cy,
+                                   fx_q2_30_t *t_out, int64_t *beyond)
+{
+    const int64_t dx = (int64_t)l->x[j + 1u] - l->x[j];
+    const int64_t dy = (int64_t)l->y[j + 1u] - l->y[j];
+    int64_t num = ((int64_t)qx - l->x[j]) * dx + ((int64_t)qy - l->y[j]) * dy;
+    int64_t den = dx * dx + dy * dy;
+    const int64_t length = fx_sqrt_u64((uint64_t)den); /* Q16.16 */
+    fx_q2_30_t t = 0;
+    *beyond = 0;
+    if (num <= 0 || den == 0) {
+        *beyond = (length > 0) ? -num / length : 0;
+    } else if (num >= den) {
+        t = FX_Q2_30_ONE;
+        *beyond = (num - den) / length;
+    } else {
+        while (den >= ((int64_t)1 << 32)) { /* keep num << 30 in range */
+            num >>= 1;
+            den >>= 1;
+        }
+        t = (den > 0) ? (fx_q2_30_t)((num << 30) / den) : 0;
+    }
+    *cx = (fx_q16_16_t)(l->x[j] + fx_mul_q16_q30((fx_q16_16_t)dx, t));
+    *cy = (fx_q16_16_t)(l->y[j] + fx_mul_q16_q30((fx_q16_16_t)dy, t));
+    *t_out = t;
+    const int64_t ex = (int64_t)qx - *cx;
+    const int64_t ey = (int64_t)qy - *cy;
+    return (uint64_t)(ex * ex + ey * ey);
+}
+
+static uint64_t range_sq(const ego_scan_t *l, uint16_t j)
+{
+    const int64_t dx = (int64_t)l->x[j] - l->origin_x;
+    const int64_t dy = (int64_t)l->y[j] - l->origin_y;
+    return (uint64_t)(dx * dx + dy * dy);
+}
+
+/* Is point e, the end of a surface whose neighbour across the break is n
+ * (or none), where the scanner merely stops seeing that surface? True at
+ * the edge of the field of view, next to missing values (range limit, no
+ * return), and behind a nearer object (e farther than n); false at the
+ * real edge of an object (e nearer than n). */
+static bool end_is_artificial(const ego_scan_t *l, uint16_t e, int32_t n)
+{
+    if (n < 0 || n >= (int32_t)l->count) {
+        return true;
+    }
+    const uint16_t link = (uint16_t)((n > (int32_t)e) ? e : (uint16_t)n);
+    if ((l->flags[link] & EGO_LINK_GAP) != 0u) {
+        return true;
+    }
+    return range_sq(l, e) > range_sq(l, (uint16_t)n);
+}
+
+/* Is point j joined to a surface on its left / right in scan order? */
+static bool linked_before(const ego_scan_t *l, uint16_t j)
+{
+    return j > 0u && (l->flags[j - 1u] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) == 0u;
+}
+
+static bool linked_after(const ego_scan_t *l, uint16_t j)
+{
+    return j + 1u < l->count && (l->flags[j] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) == 0u;
+}
+
+typedef struct {
+    bool found;
+    uint64_t dist_sq;
+    fx_q16_16_t x;
+    fx_q16_16_t y;
+} match_t;
+
+/* Considers point j of the last scan and, if it is a surface, its segment
+ * to j + 1, for the current point moved to (qx, qy) with turned tangent
+ * tc (or no tangent). */
+static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy,
+                     bool has_tc, fx_bam32_t tc, uint64_t radius_sq, match_t *best)
+{
+    const ego_scan_t *l = m->last;
+    fx_q16_16_t cx = l->x[j];
+    fx_q16_16_t cy = l->y[j];
+    uint64_t d2;
+    uint16_t near_point = j;
+    bool segment = false;
+    if (j + 1u < l->count && (l->flags[j] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) == 0u) {
+        fx_q2_30_t t;
+        int64_t beyond;
+        d2 = closest_on_segment(l, j, qx, qy, &cx, &cy, &t, &beyond);
+        /* Clamped at an end where the scanner merely stops seeing the
+         * surface (range limit, field of view, behind a nearer object):
+         * the surface may well go on, so the end point is no evidence.
+         * Without this, the ends of the visible walls, which move with the
+         * scanner, pull every registration in a corridor towards no motion. */
+        if (beyond > END_TOLERANCE &&
+            ((t == 0 && !linked_before(l, j) && end_is_artificial(l, j, (int32_t)j - 1)) ||
+             (t == FX_Q2_30_ONE && !linked_after(l, (uint16_t)(j + 1u)) &&
+              end_is_artificial(l, (uint16_t)(j + 1u), (int32_t)j + 2)))) {
+            return;
+        }
+        near_point = (t > FX_Q2_30_ONE / 2) ? (uint16_t)(j + 1u) : j;
+        segment = true;
+    } else {
+        /* The end of a surface is covered by its segment. A lone point is
+         * a feature (a post) unless it only lacks neighbours because the
+         * beams graze its surface (occlusion links): far points of a wall
+         * seen along its length lie metres apart, and matching them point
+         * to point pulls towards no motion. */
+        if (linked_before(l, j) || (l->flags[j] & EGO_LINK_OCCLUSION) != 0u ||
+            (j > 0u && (l->flags[j - 1u] & EGO_LINK_OCCLUSION) != 0u)) {
+            return;
+        }
+        const int64_t ex = (int64_t)qx - cx;
+        const int64_t ey = (int64_t)qy - cy;
+        d2 = (uint64_t)(ex * ex + ey * ey);
+    }
+    if (d2 > radius_sq || (best->found && d2 >= best->dist_sq)) {
+        return;
+    }
+    if (m->params->tangent_gate && has_tc) {
+        fx_bam32_t tl;
+        if ((l->flags[near_point] & EGO_POINT_HAS_TANGENT) != 0u) {
+            tl = l->tangent[near_point];
+        } else if (segment) {
+            tl = fx_atan2((int64_t)l->y[j + 1u] - l->y[j], (int64_t)l->x[j + 1u] - l->x[j]);
+        } else {
+            return; /* nothing to compare the tangent with */
+        }
+        if (line_angle_diff(tc, tl) > m->params->gate) {
+            return;
+        }
+    }
+    best->found = true;
+    best->dist_sq = d2;
+    best->x = cx;
+    best->y = cy;
+}
+
+/* Index of the first last-scan point whose bearing is at least rel. */
+static uint16_t lower_bound(const matcher_t *m, int64_t rel)
+{
+    uint16_t lo = 0u;
+    uint16_t hi = m->last->count;
+    while (lo < hi) { /* log2(EGO_MAX_POINTS) steps */
+        const uint16_t mid = (uint16_t)((lo + hi) / 2u);
+        if ((int64_t)fx_bam32_diff(m->last->bearing[mid], m->ref) < rel) {
+            lo = (uint16_t)(mid + 1u);
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+static match_t find_match(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, bool has_tc,
+                          fx_bam32_t tc)
+{
+    const ego_scan_t *l = m->last;
+    match_t best = {false, 0u, 0, 0};
+    const int64_t ox = (int64_t)qx - l->origin_x;
+    const int64_t oy = (int64_t)qy - l->origin_y;
+    const int64_t rel_q = fx_bam32_diff(fx_atan2(oy, ox), m->ref);
+    const int64_t r_q = fx_sqrt_u64((uint64_t)(ox * ox + oy * oy));
+    /* Half-angle of the cone the search disc subtends: asin(radius / r)
+     * <= (pi / 2) (radius / r), i.e. (radius / r) quarter turns. */
+    int64_t cone = FX_BAM32_HALF;
+    if (r_q > m->radius) {
+        cone = ((int64_t)m->radius << 30) / r_q;
+    }
+    const uint64_t radius_sq = (uint64_t)((int64_t)m->radius * m->radius);
+    const uint16_t j0 = lower_bound(m, rel_q);
+
+    for (uint16_t j = j0, k = 0u; j < l->count && k < ITCP_MAX_WALK; j++, k++) {
+        if ((int64_t)fx_bam32_diff(l->bearing[j], m->ref) > rel_q + cone) {
+            break;
+        }
+        consider(m, j, qx, qy, has_tc, tc, radius_sq, &best);
+    }
+    for (uint16_t j = j0, k = 0u; j > 0u && k < ITCP_MAX_WALK; k++) {
+        j--;
+        if ((int64_t)fx_bam32_diff(l->bearing[j + 1u], m->ref) < rel_q - cone) {
+            break;
+        }
+        consider(m, j, qx, qy, has_tc, tc, radius_sq, &best);
+    }
+    return best;
+}
+
+/* Matches every current point at pose; fills the group sums. */
+void itcp_sums_clear(itcp_sums_t *sums)
+{
+    memset(sums, 0, sizeof *sums);
+}
+
+void itcp_sums_add(itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
+                   fx_q16_16_t v)
+{
+    sums_add(&sums->group[on_main ? 0 : 1], x, y, u, v);
+}
+
+static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_t *pose,
+                      pass_t *pass)
+{
+    memset(pass, 0, sizeof *pass);
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(pose->theta, &s, &c);
+    const uint64_t inlier_sq =
+        (uint64_t)((int64_t)m->params->inlier_distance * m->params->inlier_distance);
+    for (uint16_t i = 0u; i < cur->count; i++) {
+        fx_q16_16_t qx;
+        fx_q16_16_t qy;
+        ego_pose_apply(pose, s, c, cur->x[i], cur->y[i], &qx, &qy);
+        const bool has_tc = (cur->flags[i] & EGO_POINT_HAS_TANGENT) != 0u;
+        const fx_bam32_t tc = (cur->tangent[i] + pose->theta) & (FX_BAM32_HALF - 1u);
+        const match_t best = find_match(m, qx, qy, has_tc, tc);
+        if (!best.found) {
+            continue;
+        }
+        const bool on_main =
+            has_tc && line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
+        itcp_sums_add(&pass->sums, on_main, cur->x[i], cur->y[i], best.x, best.y);
+        pass->sum_sq += best.dist_sq;
+        pass->inliers += (best.dist_sq <= inlier_sq) ? 1u : 0u;
+    }
+}
+
+static int64_t div_round(int64_t a, int64_t b)
+{
+    return (a >= 0) ? (a + b / 2) / b : -((-a + b / 2) / b);
+}
+
+/* Centred cross sum of one group divided by its size:
+ * (1/n) sum (a - am)(b - bm) from raw sums. */
+static int64_t centred(const itcp_group_sums_t *g, int64_t sab, int64_t sa, int64_t sb, int64_t am,
+                       int64_t bm)
+{
+    const int64_t total = sab - am * sb - bm * sa + g->n * am * bm;
+    return div_round(total, g->n);
+}
+
+static void sums_merge(itcp_group_sums_t *into, const itcp_group_sums_t *from)
+{
+    into->n += from->n;
+    into->sx += from->sx;
+    into->sy += from->sy;
+    into->su += from->su;
+    into->sv += from->sv;
+    into->sxu += from->sxu;
+    into->sxv += from->sxv;
+    into->syu += from->syu;
+    into->syv += from->syv;
+}
+
+void itcp_solve(const itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pose_t *pose)
+{
+    itcp_group_sums_t all = sums->group[0];
+    itcp_group_sums_t none;
+    memset(&none, 0, sizeof none);
+    if (!weighted) {
+        sums_merge(&all, &sums->group[1]);
+    }
+    const itcp_group_sums_t *g[2] = {&all, weighted ? &sums->group[1] : &none};
+    int64_t groups = 0;
+    if (g[0]->n + g[1]->n == 0) {
+        return; /* nothing to solve with: the pose stays */
+    }
+    int64_t xm = 0;
+    int64_t ym = 0;
+    int64_t um = 0;
+    int64_t vm = 0;
+    for (int k = 0; k < 2; k++) {
+        if (g[k]->n > 0) {
+            groups++;
+            xm += div_round(g[k]->sx, g[k]->n);
+            ym += div_round(g[k]->sy, g[k]->n);
+            um += div_round(g[k]->su, g[k]->n);
+            vm += div_round(g[k]->sv, g[k]->n);
+        }
+    }
+    xm = div_round(xm, groups);
+    ym = div_round(ym, groups);
+    um = div_round(um, groups);
+    vm = div_round(vm, groups);
+
+    if (!hold_theta) {
+        int64_t num = 0;
+        int64_t den = 0;
+        for (int k = 0; k < 2; k++) {
+            if (g[k]->n == 0) {
+                continue;
+            }
+            const itcp_group_sums_t *s = g[k];
+            const int64_t xv = centred(s, s->sxv, s->sx, s->sv, xm, vm);
+            const int64_t yu = centred(s, s->syu, s->sy, s->su, ym, um);
+            const int64_t xu = centred(s, s->sxu, s->sx, s->su, xm, um);
+            const int64_t yv = centred(s, s->syv, s->sy, s->sv, ym, vm);
+            num += xv - yu;
+            den += xu + yv;
+        }
+        pose->theta = fx_atan2(num, den);
+    }
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(pose->theta, &s, &c);
+    const fx_q16_16_t rx = fx_sub_q16(fx_mul_q16_q30((fx_q16_16_t)xm, c),
+                                      fx_mul_q16_q30((fx_q16_16_t)ym, s));
+    const fx_q16_16_t ry = fx_add_q16(fx_mul_q16_q30((fx_q16_16_t)xm, s),
+                                      fx_mul_q16_q30((fx_q16_16_t)ym, c));
+    pose->x = fx_sub_q16((fx_q16_16_t)um, rx);
+    pose->y = fx_sub_q16((fx_q16_16_t)vm, ry);
+}
+
+static int64_t abs64(int64_t v)
+{
+    return (v < 0) ? -v : v;
+}
+
+/* A pose step as a 3-vector in metres (Q16.16): the rotation counts as
+ * its arc at ACCEL_ARM_M, so that turning and moving compare. */
+typedef struct {
+    int64_t v[3];
+} step_t;
+
+/* 2 pi * 8 m * 2^16: binary angle (2^32 a turn) -> arc at 8 m, Q16.16. */
+#define ACCEL_ARC_PER_BAM 3294199
+#define ACCEL_MAX_FACTOR 8
+
+static step_t pose_step(const ego_pose_t *from, const ego_pose_t *to)
+{
+    step_t d;
+    d.v[0] = (int64_t)to->x - from->x;
+    d.v[1] = (int64_t)to->y - from->y;
+    d.v[2] = ((int64_t)fx_bam32_diff(to->theta, from->theta) * ACCEL_ARC_PER_BAM) / 4294967296LL;
+    return d;
+}
+
+static int64_t step_dot(const step_t *a, const step_t *b)
+{
+    return a->v[0] * b->v[0] + a->v[1] * b->v[1] + a->v[2] * b->v[2];
+}
+
+/* Point-to-point ICP creeps along surfaces with steps that shrink by a
+ * nearly constant ratio r in a nearly constant direction. When two steps
+ * agree in direction (cosine > 0.95) and shrink, jump ahead by the rest of
+ * the geometric series, r / (1 - r) times the last step (at most
+ * ACCEL_MAX_FACTOR), as Besl and McKay's accelerated ICP does. Returns
+ * true when it jumped. */
+static bool accelerate(ego_pose_t *pose, const step_t *last_step, const step_t *step,
+                       fx_bam32_t dtheta)
+{
+    const int64_t n1 = fx_sqrt_u64((uint64_t)step_dot(last_step, last_step));
+    const int64_t n2 = fx_sqrt_u64((uint64_t)step_dot(step, step));
+    if (n1 == 0 || n2 == 0 || n2 >= n1) {
+        return false;
+    }
+    /* cos > 0.95  <=>  20 dot > 19 |a| |b|. */
+    if (20 * step_dot(last_step, step) <= 19 * n1 * n2) {
+        return false;
+    }
+    /* factor = r / (1 - r) = n2 / (n1 - n2), Q16.16, capped. */
+    int64_t factor = (n2 << 16) / (n1 - n2);
+    factor = (factor > ((int64_t)ACCEL_MAX_FACTOR << 16)) ? ((int64_t)ACCEL_MAX_FACTOR << 16) : factor;
+    pose->x = fx_sat_s32(pose->x + ((step->v[0] * factor) >> 16));
+    pose->y = fx_sat_s32(pose->y + ((step->v[1] * factor) >> 16));
+    pose->theta += (fx_bam32_t)(uint32_t)(int32_t)((fx_bam32_diff(dtheta, 0u) * factor) >> 16);
+    return true;
+}
+
+itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
+                            fx_bam32_t main_direction, const ego_pose_t *initial,
+                            bool hold_rotation, const itcp_params_t *params,
+                            itcp_result_t *result)
+{
+    if (result != NULL) {
+        memset(result, 0, sizeof *result);
+    }
+    if (last == NULL || current == NULL || initial == NULL || params == NULL || result == NULL) {
+        return ITCP_ERR_ARG;
+    }
+    result->pose = *initial;
+    if (last->count < 2u || current->count == 0u) {
+        return ITCP_ERR_FEW_MATCHES;
+    }
+    matcher_t m;
+    m.last = last;
+    m.params = params;
+    m.ref = last->bearing[0] + (last->bearing[last->count - 1u] - last->bearing[0]) / 2u;
+    m.main_direction = main_direction & (FX_BAM32_HALF - 1u);
+    m.radius = params->radius_start;
+
+    ego_pose_t pose = *initial;
+    pass_t pass;
+    step_t last_step = {{0, 0, 0}};
+    bool have_last_step = false;
+    /* After a jump, a step back means it overshot: no more jumps then, so
+     * that jumping and creeping back cannot cycle. */
+    bool may_accelerate = true;
+    bool jumped = false;
+    step_t jump = {{0, 0, 0}};
+    itcp_status_t status = ITCP_OK;
+    for (uint8_t it = 0u; it < params->max_iterations; it++) {
+        match_all(&m, current, &pose, &pass);
+        if (pass.sums.group[0].n + pass.sums.group[1].n < params->min_matches) {
+            status = ITCP_ERR_FEW_MATCHES;
+            break;
+        }
+        const ego_pose_t before = pose;
+        itcp_solve(&pass.sums, params->weighted, hold_rotation, &pose);
+        result->iterations = (uint8_t)(it + 1u);
+        const bool at_min = m.radius <= params->radius_min;
+        const bool still =
+            abs64((int64_t)pose.x - before.x) < params->converge_translation &&
+            abs64((int64_t)pose.y - before.y) < params->converge_translation &&
+            abs64(fx_bam32_diff(pose.theta, before.theta)) < (int64_t)params->converge_rotation;
+        if (still && at_min) {
+            result->converged = true;
+            break;
+        }
+        /* Accelerate only once the match set has settled (smallest radius). */
+        const step_t step = pose_step(&before, &pose);
+        if (jumped && step_dot(&step, &jump) < 0) {
+            may_accelerate = false;
+        }
+        jumped = false;
+        const ego_pose_t stepped = pose;
+        if (may_accelerate && at_min && have_last_step &&
+            accelerate(&pose, &last_step, &step, pose.theta - before.theta)) {
+            jumped = true;
+            jump = pose_step(&stepped, &pose);
+            have_last_step = false;
+        } else {
+            last_step = step;
+            have_last_step = at_min;
+        }
+        const fx_q16_16_t shrunk = fx_mul_q16_q30(m.radius, params->radius_shrink);
+        m.radius = (shrunk > params->radius_min) ? shrunk : params->radius_min;
+    }
+    result->pose = pose;
+
+    /* Statistics at the final pose, with the smallest radius. */
+    m.radius = params->radius_min;
+    match_all(&m, current, &pose, &pass);
+    const int64_t matches = pass.sums.group[0].n + pass.sums.group[1].n;
+    result->matches = (uint16_t)matches;
+    result->n_main = (uint16_t)pass.sums.group[0].n;
+    result->n_non_main = (uint16_t)pass.sums.group[1].n;
+    result->inliers = (uint16_t)pass.inliers;
+    if (matches > 0) {
+        result->residual = (fx_q16_16_t)fx_sqrt_u64(pass.sum_sq / (uint64_t)matches);
+    }
+    /* Aperture: n_non / n_main < ratio, i.e. n_non < ratio * n_main. */
+    result->aperture = pass.sums.group[0].n > 0 &&
+                       ((int64_t)pass.sums.group[1].n << 30) <
+                           (int64_t)params->aperture_ratio * pass.sums.group[0].n;
+    if (status == ITCP_OK && matches < params->min_matches) {
+        status = ITCP_ERR_FEW_MATCHES;
+    }
+    return status;
+}

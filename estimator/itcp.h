@@ -1,0 +1,119 @@
+/* itcp.h - ITCP: iterative tangent-weighted closest point (paper section
+ * 5, eqs. 8-12), and plain ICP as a selectable mode.
+ *
+ * Each iteration matches every current point P (moved by the pose guess to
+ * Q = R P + T) to the closest point on the last scan's segments (eq. 8),
+ * then solves the weighted closed form (eq. 12) for a new pose.
+ *
+ * Correspondences through the scan order, not all pairs: the last scan's
+ * points are sorted by bearing from its scanner. Q's bearing finds its
+ * place by binary search; the search then walks outwards along the scan
+ * and stops on each side once a point's bearing leaves the cone that the
+ * disc of the search radius around Q subtends (a segment between two
+ * points outside the cone on the same side cannot reach the disc), or
+ * after ITCP_MAX_WALK points.
+ *
+ * A match is kept when it lies within the search radius, which shrinks
+ * from radius_start by radius_shrink per iteration down to radius_min, and
+ * (ITCP with the gate on) when the current point's tangent, turned by
+ * theta, is within `gate` of the tangent at the match (modulo 180 deg).
+ * Segments that are breaks or occlusion edges are never matched; a point
+ * without surface segments can be matched as a point.
+ *
+ * Weights (eq. 10): a match is on the main direction when its turned
+ * tangent is within main_tolerance of main_direction; the n_main main
+ * matches share half the weight and the n_non others the other half. With
+ * lambda_g = m / (2 n_g) the weighted sums reduce to averages of the two
+ * groups' own sums, which is how they are computed: per group, raw int64
+ * sums in one pass, no match arrays (docs/fixed-point.md gives the bounds).
+ * Plain ICP weighs every match equally (one group). An empty group leaves
+ * the other alone.
+ *
+ * Iterations stop when the pose changes by less than converge_translation
+ * and converge_rotation with the radius at its minimum, or after
+ * max_iterations. hold_rotation keeps theta at the initial value (the
+ * paper's translation-only first stage). Aperture: n_non / n_main below
+ * aperture_ratio (a corridor: translation along the main direction is not
+ * observable).
+ */
+#ifndef ITCP_H
+#define ITCP_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "ego_pose.h"
+#include "ego_scan.h"
+#include "fx.h"
+
+/* Most last-scan points looked at on each side of a current point. */
+#ifndef ITCP_MAX_WALK
+#define ITCP_MAX_WALK 96u
+#endif
+
+typedef struct {
+    bool weighted;                   /* true: ITCP weights (eq. 10); false: plain ICP */
+    bool tangent_gate;               /* reject matches with inconsistent tangents */
+    fx_bam32_t gate;                 /* default 25 deg */
+    fx_bam32_t main_tolerance;       /* default 10 deg */
+    fx_q16_16_t radius_start;        /* default 0.6 m */
+    fx_q16_16_t radius_min;          /* default 0.15 m */
+    fx_q2_30_t radius_shrink;        /* per iteration, default 0.75 */
+    uint8_t max_iterations;          /* default 30 */
+    fx_q16_16_t converge_translation;/* default 0.0001 m */
+    fx_bam32_t converge_rotation;    /* default 0.001 deg */
+    fx_q16_16_t inlier_distance;     /* for the inlier count, default 0.10 m */
+    fx_q2_30_t aperture_ratio;       /* default 0.2 */
+    uint16_t min_matches;            /* fewer: the registration fails; default 10 */
+} itcp_params_t;
+
+void itcp_defaults(itcp_params_t *params);
+
+typedef struct {
+    ego_pose_t pose;
+    uint8_t iterations;      /* closed-form solutions computed */
+    bool converged;
+    bool aperture;
+    uint16_t matches;        /* in the last iteration */
+    uint16_t n_main;
+    uint16_t n_non_main;
+    uint16_t inliers;        /* matches within inlier_distance at the final pose */
+    fx_q16_16_t residual;    /* RMS match distance at the final pose, m */
+} itcp_result_t;
+
+typedef enum {
+    ITCP_OK = 0,
+    ITCP_ERR_ARG = -1,
+    ITCP_ERR_FEW_MATCHES = -2 /* fewer than min_matches: result holds the last pose */
+} itcp_status_t;
+
+/* The closed form on its own (for tests and the coarse search): matched
+ * pairs (x, y) -> (u, v) accumulated per group. |coordinates| < 2^24
+ * (256 m) and at most EGO_MAX_POINTS pairs keep every sum below 2^57. */
+typedef struct {
+    int64_t n;
+    int64_t sx, sy, su, sv;
+    int64_t sxu, sxv, syu, syv;
+} itcp_group_sums_t;
+
+typedef struct {
+    itcp_group_sums_t group[2]; /* [0] on the main direction, [1] the others */
+} itcp_sums_t;
+
+void itcp_sums_clear(itcp_sums_t *sums);
+void itcp_sums_add(itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
+                   fx_q16_16_t v);
+
+/* Eq. 12: the pose minimising the weighted squared distances, lambda by
+ * eq. 10 when weighted, all equal otherwise; hold_theta keeps pose->theta
+ * and solves the translation only. No pairs: *pose is left alone. */
+void itcp_solve(const itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pose_t *pose);
+
+/* Registers current against last from *initial. main_direction is the
+ * dominant line direction in the last scan's frame (hist_main_direction). */
+itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
+                            fx_bam32_t main_direction, const ego_pose_t *initial,
+                            bool hold_rotation, const itcp_params_t *params,
+                            itcp_result_t *result);
+
+#endif /* ITCP_H */

@@ -1,0 +1,207 @@
+/* tfit.c - see tfit.h. */
+#include "tfit.h"
+
+#include <stddef.h>
+
+#include "fx_math.h"
+
+#define TFIT_WINDOW_MAX (2u * EGO_TFIT_MAX_HALF_WINDOW + 1u)
+#define WEIGHT_ONE ((int64_t)FX_Q16_16_ONE)
+
+_Static_assert(TFIT_WINDOW_MAX <= 64u, "moment sums assume a small window");
+
+void tfit_defaults(tfit_params_t *params)
+{
+    params->half_window = 3u;
+    params->passes = 2u;
+    params->min_points = 3u;
+    params->sigma_min = FX_Q16_16_C(0.005);
+}
+
+/* a / b rounded to nearest, b > 0. */
+static int64_t div_round(int64_t a, int64_t b)
+{
+    return (a >= 0) ? (a + b / 2) / b : -((-a + b / 2) / b);
+}
+
+static int64_t abs64(int64_t v)
+{
+    return (v < 0) ? -v : v;
+}
+
+/* Line normal of the weighted points, and the residual of each point. */
+typedef struct {
+    fx_bam32_t normal; /* phi, mod 180 deg */
+    fx_q16_16_t residual[TFIT_WINDOW_MAX];
+    int64_t weight_sum; /* Q16.16 */
+} line_fit_t;
+
+static bool fit_line(const fx_q16_16_t *x, const fx_q16_16_t *y, const int32_t *w, uint16_t n,
+                     line_fit_t *out)
+{
+    int64_t sw = 0;
+    int64_t sx = 0;
+    int64_t sy = 0;
+    uint16_t used = 0u;
+    for (uint16_t k = 0u; k < n; k++) {
+        sw += w[k];
+        sx += (int64_t)w[k] * x[k];
+        sy += (int64_t)w[k] * y[k];
+        used = (uint16_t)(used + (w[k] > 0 ? 1u : 0u));
+    }
+    if (used < 2u) {
+        return false;
+    }
+    const int64_t xm = div_round(sx, sw); /* Q16.16 */
+    const int64_t ym = div_round(sy, sw);
+
+    /* Central moments, Q32.32: (w u >> 16) * u keeps every term < 2^43. */
+    int64_t sxx = 0;
+    int64_t syy = 0;
+    int64_t sxy = 0;
+    for (uint16_t k = 0u; k < n; k++) {
+        const int64_t ux = x[k] - xm;
+        const int64_t uy = y[k] - ym;
+        const int64_t wux = fx_shr_round_s64(w[k] * ux, 16u);
+        const int64_t wuy = fx_shr_round_s64(w[k] * uy, 16u);
+        sxx += wux * ux;
+        syy += wuy * uy;
+        sxy += wux * uy;
+    }
+    /* 2 phi = atan2(-2 Sxy, Syy - Sxx); phi is a normal, mod 180 deg. */
+    out->normal = fx_atan2(-2 * sxy, syy - sxx) >> 1;
+    out->weight_sum = sw;
+
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(out->normal, &s, &c);
+    for (uint16_t k = 0u; k < n; k++) {
+        const fx_q16_16_t ux = (fx_q16_16_t)(x[k] - xm);
+        const fx_q16_16_t uy = (fx_q16_16_t)(y[k] - ym);
+        out->residual[k] = fx_add_q16(fx_mul_q16_q30(ux, c), fx_mul_q16_q30(uy, s));
+    }
+    return true;
+}
+
+/* Median of the absolute residuals (n <= TFIT_WINDOW_MAX): insertion
+ * sort of a copy. */
+static int64_t median_abs(const fx_q16_16_t *residual, uint16_t n)
+{
+    int64_t a[TFIT_WINDOW_MAX] = {0};
+    if (n == 0u || n > TFIT_WINDOW_MAX) {
+        return 0;
+    }
+    for (uint16_t k = 0u; k < n; k++) {
+        const int64_t v = abs64(residual[k]);
+        uint16_t j = k;
+        while (j > 0u && a[j - 1u] > v) {
+            a[j] = a[j - 1u];
+            j--;
+        }
+        a[j] = v;
+    }
+    return ((n % 2u) != 0u) ? a[n / 2u] : (a[n / 2u - 1u] + a[n / 2u] + 1) / 2;
+}
+
+/* Eq. 2: weights from the residuals and their scale sigma, taken robustly
+ * as 1.4826 x the median absolute residual (the standard deviation for
+ * Gaussian noise, but not inflated by the outliers it must reject), and
+ * never below sigma_min (the range quantum and noise of the scanner). */
+static void reweight(const fx_q16_16_t *residual, uint16_t n, fx_q16_16_t sigma_min, int32_t *w)
+{
+    /* 1.4826 in Q16.16 is 97163. */
+    int64_t sigma = fx_shr_round_s64(median_abs(residual, n) * 97163, 16u);
+    if (sigma < sigma_min) {
+        sigma = sigma_min;
+    }
+    for (uint16_t k = 0u; k < n; k++) {
+        const int64_t e = abs64(residual[k]);
+        if (sigma == 0 || e <= sigma) {
+            w[k] = (int32_t)WEIGHT_ONE;
+        } else if (e <= 3 * sigma) {
+            w[k] = (int32_t)div_round(sigma * WEIGHT_ONE, e);
+        } else {
+            w[k] = 0;
+        }
+    }
+}
+
+bool tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_t passes,
+              fx_q16_16_t sigma_min, fx_bam32_t *tangent, fx_q16_16_t *rms)
+{
+    if (x == NULL || y == NULL || tangent == NULL || rms == NULL || count < 2u ||
+        count > TFIT_WINDOW_MAX) {
+        return false;
+    }
+    int32_t w[TFIT_WINDOW_MAX];
+    for (uint16_t k = 0u; k < count; k++) {
+        w[k] = (int32_t)WEIGHT_ONE;
+    }
+    line_fit_t fit;
+    if (!fit_line(x, y, w, count, &fit)) {
+        return false;
+    }
+    for (uint8_t pass = 0u; pass < passes; pass++) {
+        reweight(fit.residual, count, sigma_min, w);
+        if (!fit_line(x, y, w, count, &fit)) {
+            return false;
+        }
+    }
+    /* Weighted RMS residual of the last fit. */
+    int64_t sum = 0;
+    for (uint16_t k = 0u; k < count; k++) {
+        const int64_t e = fit.residual[k];
+        sum += fx_shr_round_s64(w[k] * e, 16u) * e;
+    }
+    /* Mean square, Q32.32: sum * 2^16 / weight_sum without overflowing. */
+    const int64_t mean_sq = (sum < ((int64_t)1 << 46)) ? div_round(sum * WEIGHT_ONE, fit.weight_sum)
+                                                       : (sum / fit.weight_sum) * WEIGHT_ONE;
+    *rms = (fx_q16_16_t)fx_sqrt_u64((uint64_t)((mean_sq > 0) ? mean_sq : 0));
+    *tangent = (fit.normal + FX_BAM32_QUARTER) & (FX_BAM32_HALF - 1u);
+    return true;
+}
+
+void tfit_fit_scan(ego_scan_t *scan, const tfit_params_t *params)
+{
+    uint8_t n = params->half_window;
+    if (n < 1u) {
+        n = 1u;
+    }
+    if (n > EGO_TFIT_MAX_HALF_WINDOW) {
+        n = EGO_TFIT_MAX_HALF_WINDOW;
+    }
+    const uint8_t min_points = (params->min_points < 2u) ? 2u : params->min_points;
+
+    for (uint16_t i = 0u; i < scan->count; i++) {
+        /* The window: up to n linked neighbours on each side. */
+        uint16_t first = i;
+        while (first > 0u && i - first < n && ego_scan_linked(scan, (uint16_t)(first - 1u))) {
+            first--;
+        }
+        uint16_t last = i;
+        while (last + 1u < scan->count && last - i < n && ego_scan_linked(scan, last)) {
+            last++;
+        }
+        const uint16_t count = (uint16_t)(last - first + 1u);
+        scan->flags[i] &= (uint8_t)~EGO_POINT_HAS_TANGENT;
+        scan->tangent[i] = 0u;
+        scan->tangent_rms[i] = 0u;
+        if (count < min_points) {
+            continue;
+        }
+        /* Relative to P[i]: small numbers, exact in Q16.16. */
+        fx_q16_16_t rx[TFIT_WINDOW_MAX];
+        fx_q16_16_t ry[TFIT_WINDOW_MAX];
+        for (uint16_t k = 0u; k < count; k++) {
+            rx[k] = fx_sub_q16(scan->x[first + k], scan->x[i]);
+            ry[k] = fx_sub_q16(scan->y[first + k], scan->y[i]);
+        }
+        fx_bam32_t tangent = 0u;
+        fx_q16_16_t rms = 0;
+        if (tfit_fit(rx, ry, count, params->passes, params->sigma_min, &tangent, &rms)) {
+            scan->tangent[i] = tangent;
+            scan->tangent_rms[i] = (uint16_t)((rms > 0xFFFF) ? 0xFFFF : rms);
+            scan->flags[i] |= EGO_POINT_HAS_TANGENT;
+        }
+    }
+}

@@ -1,0 +1,202 @@
+/* ego_loop.c - see ego_loop.h. */
+#include "ego_loop.h"
+
+#include <string.h>
+
+#define MICRO 1000000
+
+void ego_loop_defaults(ego_loop_config_t *config)
+{
+    memset(config, 0, sizeof *config);
+    ego_defaults(&config->ego);
+}
+
+void ego_loop_init(ego_loop_t *loop, const ego_loop_config_t *config)
+{
+    memset(loop, 0, sizeof *loop);
+    loop->config = *config;
+    lms_framer_init(&loop->framer, LMS_FROM_SCANNER);
+    ego_reset(&loop->ego);
+    loop->period_us = config->period_us;
+}
+
+const ego_loop_stats_t *ego_loop_stats(const ego_loop_t *loop)
+{
+    return &loop->stats;
+}
+
+size_t ego_format_fixed(char *out, int64_t value, unsigned decimals)
+{
+    char digits[24];
+    size_t n = 0u;
+    const bool negative = value < 0;
+    uint64_t v = negative ? (uint64_t)0 - (uint64_t)value : (uint64_t)value;
+    /* Digits, least significant first; at least decimals + 1 of them. */
+    do {
+        digits[n++] = (char)('0' + (int)(v % 10u));
+        v /= 10u;
+    } while ((v != 0u || n <= decimals) && n < sizeof digits);
+    size_t len = 0u;
+    if (negative) {
+        out[len++] = '-';
+    }
+    while (n > 0u) {
+        if (n == decimals) {
+            out[len++] = '.';
+        }
+        out[len++] = digits[--n];
+    }
+    out[len] = '\0';
+    return len;
+}
+
+/* Q16.16 -> micro-units, rounded. */
+static int64_t micro_from_q16(int64_t v)
+{
+    return fx_shr_round_s64(v * MICRO, 16u);
+}
+
+/* Signed binary angle -> microradians: 2 pi 10^6 / 2^32 per unit. */
+static int64_t microrad_from_bam(fx_bam32_t a)
+{
+    return fx_shr_round_s64((int64_t)fx_bam32_diff(a, 0u) * 6283185, 32u);
+}
+
+/* Scan period of the LMS mode with this many values (mode 24). */
+static uint32_t mode_period_us(uint16_t count)
+{
+    switch (count) {
+    case 361u:
+    case 201u:
+        return 26667u; /* two mirror turns at 75 Hz */
+    case 401u:
+        return 53333u; /* four */
+    default:
+        return 13333u; /* one: 1-degree scans and partial scans */
+    }
+}
+
+typedef struct {
+    char *buf;
+    size_t len;
+} line_t;
+
+static void put_text(line_t *l, const char *s)
+{
+    while (*s != '\0' && l->len + 1u < EGO_LOOP_LINE_MAX) {
+        l->buf[l->len++] = *s++;
+    }
+    l->buf[l->len] = '\0';
+}
+
+static void put_number(line_t *l, int64_t value, unsigned decimals, bool comma)
+{
+    char tmp[32];
+    (void)ego_format_fixed(tmp, value, decimals);
+    put_text(l, tmp);
+    put_text(l, comma ? "," : "\n");
+}
+
+static void write_line(const ego_hal_t *hal, const line_t *l)
+{
+    hal->write(hal->ctx, (const uint8_t *)l->buf, l->len);
+}
+
+static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
+{
+    const uint32_t k = loop->stats.scans++;
+    if (loop->period_us == 0u && !loop->config.use_clock) {
+        loop->period_us = mode_period_us(loop->scan.count);
+    }
+    if (k == 0u) {
+        loop->first_time_us = arrival_us;
+    }
+    const uint32_t t_us = loop->config.use_clock ? arrival_us - loop->first_time_us
+                                                 : k * loop->period_us;
+    ego_output_t out;
+    if (ego_process(&loop->ego, &loop->config.ego, &loop->scan, t_us, &out) != EGO_OK) {
+        loop->stats.decode_errors++;
+        return;
+    }
+    if (k == 0u) {
+        return; /* the first scan has no motion */
+    }
+    line_t l = {loop->line, 0u};
+    if (!loop->header_written) {
+        put_text(&l, "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,"
+                     "iterations,matches\n");
+        write_line(hal, &l);
+        l.len = 0u;
+        loop->header_written = true;
+    }
+    put_number(&l, k, 0u, true);
+    put_number(&l, t_us, 6u, true);
+    put_number(&l, micro_from_q16(out.pose.x), 6u, true);
+    put_number(&l, micro_from_q16(out.pose.y), 6u, true);
+    put_number(&l, microrad_from_bam(out.pose.theta), 6u, true);
+    put_number(&l, micro_from_q16(out.vx), 6u, true);
+    put_number(&l, micro_from_q16(out.vy), 6u, true);
+    put_number(&l, micro_from_q16(out.omega), 6u, true);
+    put_number(&l, out.flags, 0u, true);
+    put_number(&l, out.iterations, 0u, true);
+    put_number(&l, out.matches, 0u, false);
+    write_line(hal, &l);
+    loop->stats.lines++;
+    loop->stats.predicted += (out.flags & EGO_FLAG_PREDICTED) ? 1u : 0u;
+    loop->stats.restarts += (out.flags & EGO_FLAG_FIRST) ? 1u : 0u;
+}
+
+static void on_event(ego_loop_t *loop, const ego_hal_t *hal, lms_framer_event_t ev,
+                     uint32_t arrival_us)
+{
+    if (ev != LMS_FRAMER_TELEGRAM) {
+        return;
+    }
+    size_t len = 0u;
+    const uint8_t *t = lms_framer_telegram(&loop->framer, &len);
+    if (t == NULL || len <= LMS_HEADER_SIZE || t[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
+        return;
+    }
+    if (lms_decode_scan(t, len, &loop->scan) != LMS_OK) {
+        loop->stats.decode_errors++;
+        return;
+    }
+    on_scan(loop, hal, arrival_us);
+}
+
+ego_loop_status_t ego_loop_step(ego_loop_t *loop, const ego_hal_t *hal)
+{
+    if (loop->ended) {
+        return EGO_LOOP_END;
+    }
+    const int32_t got = hal->read(hal->ctx, loop->rx, sizeof loop->rx);
+    const uint32_t now = hal->now_us(hal->ctx);
+    if (got < 0) {
+        /* End of input: whatever the framer still holds comes out now. */
+        for (uint32_t guard = 0u; guard <= LMS_FRAMER_BUF_SIZE + 1u; guard++) {
+            const lms_framer_event_t ev = lms_framer_flush(&loop->framer);
+            if (ev == LMS_FRAMER_NEED_MORE) {
+                break;
+            }
+            on_event(loop, hal, ev, now);
+        }
+        loop->ended = true;
+        return EGO_LOOP_END;
+    }
+    if (got == 0) {
+        return EGO_LOOP_IDLE;
+    }
+    loop->stats.bytes += (uint32_t)got;
+    size_t offset = 0u;
+    for (;;) { /* ends: the framer reports NEED_MORE once every byte is used */
+        size_t used = 0u;
+        const lms_framer_event_t ev =
+            lms_framer_feed(&loop->framer, &loop->rx[offset], (size_t)got - offset, &used);
+        offset += used;
+        if (ev == LMS_FRAMER_NEED_MORE) {
+            break;
+        }
+        on_event(loop, hal, ev, now);
+    }
+    return EGO_LOOP_BUSY;
+}

@@ -1,0 +1,99 @@
+/* ego_loop.h - the firmware main loop (portable core): bytes in from a
+ * small HAL, ego-motion lines out.
+ *
+ * Every step reads what the HAL has waiting, feeds the telegram framer,
+ * decodes each B0 scan, runs the estimator and writes one CSV line per
+ * scan after the first:
+ *
+ *   scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches
+ *
+ * (the header once, first). scan counts decoded scans from 0; time_s is
+ * scan * period (replay of a recording without timestamps) or the HAL
+ * clock at the telegram's arrival, relative to the first scan; the pose is
+ * the scan's position in the frame of the previous scan; flags are
+ * EGO_FLAG_* (ego.h) in decimal. Numbers are printed without stdio (six
+ * decimals, rounded to nearest).
+ *
+ * Static memory: ego_loop_t holds the framer, one decoded scan, the
+ * estimator state and a line buffer; the caller owns it (a static in
+ * main). No OS headers, no heap.
+ */
+#ifndef EGO_LOOP_H
+#define EGO_LOOP_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "ego.h"
+#include "lms_decode.h"
+#include "lms_framer.h"
+
+/* The platform: three functions and their context. */
+typedef struct {
+    /* Copies up to cap waiting bytes into buf and returns how many (0 when
+     * none are waiting now); a negative value means the input has ended. */
+    int32_t (*read)(void *ctx, uint8_t *buf, size_t cap);
+    /* Writes len bytes (may block). */
+    void (*write)(void *ctx, const uint8_t *buf, size_t len);
+    /* A free-running microsecond clock (wraps after 71 minutes: fine). */
+    uint32_t (*now_us)(void *ctx);
+    void *ctx;
+} ego_hal_t;
+
+#define EGO_LOOP_READ_CHUNK 256u
+#define EGO_LOOP_LINE_MAX 192u
+
+typedef struct {
+    ego_params_t ego;
+    /* Time of scan k: k * period_us when nonzero; 0 with use_clock false:
+     * the period of the LMS mode of the first scan (1/75 s for 1-degree
+     * scans, 1/37.5 s at 0.5 deg, 1/18.75 s at 0.25 deg). */
+    uint32_t period_us;
+    bool use_clock;            /* true: stamp scans with hal->now_us instead */
+} ego_loop_config_t;
+
+void ego_loop_defaults(ego_loop_config_t *config);
+
+typedef struct {
+    uint32_t bytes;          /* read from the HAL */
+    uint32_t scans;          /* B0 telegrams decoded */
+    uint32_t decode_errors;  /* B0 telegrams the decoder or estimator refused */
+    uint32_t lines;          /* motion lines written */
+    uint32_t predicted;      /* of which carried a prediction, not a match */
+    uint32_t restarts;       /* EGO_FLAG_FIRST after the first scan */
+} ego_loop_stats_t;
+
+typedef struct {
+    /* Private. */
+    ego_loop_config_t config;
+    lms_framer_t framer;
+    lms_scan_t scan;
+    ego_state_t ego;
+    uint32_t period_us;
+    uint32_t first_time_us;
+    bool header_written;
+    bool ended;
+    ego_loop_stats_t stats;
+    uint8_t rx[EGO_LOOP_READ_CHUNK];
+    char line[EGO_LOOP_LINE_MAX];
+} ego_loop_t;
+
+void ego_loop_init(ego_loop_t *loop, const ego_loop_config_t *config);
+
+typedef enum {
+    EGO_LOOP_IDLE = 0, /* nothing was waiting */
+    EGO_LOOP_BUSY = 1, /* bytes were processed; call again */
+    EGO_LOOP_END = 2   /* the input ended and everything is processed */
+} ego_loop_status_t;
+
+/* One round: at most EGO_LOOP_READ_CHUNK bytes. */
+ego_loop_status_t ego_loop_step(ego_loop_t *loop, const ego_hal_t *hal);
+
+const ego_loop_stats_t *ego_loop_stats(const ego_loop_t *loop);
+
+/* Formats value / 10^decimals ("-1.250000"), rounded already by the
+ * caller; returns the length written (at most 24 + NUL). */
+size_t ego_format_fixed(char *out, int64_t value, unsigned decimals);
+
+#endif /* EGO_LOOP_H */

@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""Compare `lmsego replay` CSV with a ground-truth pairs file (lmsworld).
+
+usage: pairs_error.py TRUTH.pairs REPLAY.csv [--exclude-flags MASK] [--fail-m 0.10 --fail-deg 1.0]
+
+Prints, over the pairs present in both: translation error (along = x of the
+truth's frame, across = y) and rotation error: mean, median, p95, max; and the
+failure count (translation error > fail-m or rotation error > fail-deg, or no
+answer). Exit 0. Standard library only.
+"""
+import argparse
+import math
+import statistics
+import sys
+
+
+def read_truth(path):
+    truth = {}
+    with open(path) as f:
+        for line in f:
+            if not line.strip() or line.startswith('#'):
+                continue
+            i, j, dx, dy, dt = line.split()
+            truth[int(j)] = (float(dx), float(dy), float(dt))
+    return truth
+
+
+def read_csv(path):
+    est = {}
+    with open(path) as f:
+        header = f.readline().strip().split(',')
+        col = {name: k for k, name in enumerate(header)}
+        for line in f:
+            v = line.strip().split(',')
+            if len(v) != len(header):
+                continue
+            est[int(v[col['scan']])] = (float(v[col['dx_m']]), float(v[col['dy_m']]),
+                                        float(v[col['dtheta_rad']]), int(v[col['flags']]))
+    return est
+
+
+def stats(values):
+    if not values:
+        return 'n=0'
+    s = sorted(values)
+    p95 = s[min(len(s) - 1, int(math.ceil(0.95 * len(s))) - 1)]
+    return 'mean %.6f median %.6f p95 %.6f max %.6f' % (
+        statistics.fmean(s), statistics.median(s), p95, s[-1])
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('truth')
+    ap.add_argument('csv')
+    ap.add_argument('--exclude-flags', type=lambda x: int(x, 0), default=0,
+                    help='leave pairs with any of these flags out of the translation figures')
+    ap.add_argument('--fail-m', type=float, default=0.10)
+    ap.add_argument('--fail-deg', type=float, default=1.0)
+    a = ap.parse_args()
+    truth = read_truth(a.truth)
+    est = read_csv(a.csv)
+    along, across, trans, rot = [], [], [], []
+    fails = 0
+    for j, (tx, ty, tt) in sorted(truth.items()):
+        if j not in est:
+            fails += 1
+            continue
+        ex, ey, et, flags = est[j]
+        r = abs(math.degrees(math.remainder(et - tt, 2 * math.pi)))
+        rot.append(r)
+        t = math.hypot(ex - tx, ey - ty)
+        if t > a.fail_m or r > a.fail_deg:
+            fails += 1
+        if flags & a.exclude_flags:
+            continue
+        trans.append(t)
+        along.append(abs(ex - tx))
+        across.append(abs(ey - ty))
+    print('pairs %d  failed %d (%.1f %%)' % (len(truth), fails, 100.0 * fails / max(1, len(truth))))
+    print('rotation deg   ' + stats(rot))
+    print('translation m  ' + stats(trans))
+    print('along m        ' + stats(along))
+    print('across m       ' + stats(across))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

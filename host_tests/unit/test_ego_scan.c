@@ -1,0 +1,258 @@
+/* test_ego_scan.c - scan preparation (estimator/ego_scan.c): polar LMS
+ * values to vehicle-frame points, against double-precision geometry, and
+ * the segment structure on constructed scans. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "ego_scan.h"
+#include "fx_host.h"
+#include "unity.h"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static lms_scan_t g_lms;
+static ego_scan_t g_scan;
+
+/* Raw LMS word of a range in the scan's unit (mode 00, 13 bits). */
+static uint16_t word_of(double metres, lms_unit_t unit)
+{
+    const double units = metres * (unit == LMS_UNIT_MM ? 1000.0 : 100.0);
+    const long v = lround(units);
+    return (uint16_t)((v > 0x1FF6) ? 0x1FF7 : v);
+}
+
+/* Vehicle-frame beam angle (rad) of LMS value k: 180-deg fields start at
+ * -90 deg, 100-deg fields at -50 deg. */
+static double beam_rad(unsigned k, unsigned count)
+{
+    double start = -90.0;
+    double step = 1.0;
+    switch (count) {
+    case 361u:
+        step = 0.5;
+        break;
+    case 101u:
+        start = -50.0;
+        break;
+    case 201u:
+        start = -50.0;
+        step = 0.5;
+        break;
+    case 401u:
+        start = -50.0;
+        step = 0.25;
+        break;
+    default:
+        break;
+    }
+    return (start + step * k) * FX_HOST_PI / 180.0;
+}
+
+/* A scanner in front of a wall x = d (vehicle frame, no mount offset). */
+static void make_wall_scan(unsigned count, lms_unit_t unit, double d)
+{
+    memset(&g_lms, 0, sizeof g_lms);
+    g_lms.count = (uint16_t)count;
+    g_lms.unit = unit;
+    for (unsigned k = 0u; k < count; k++) {
+        const double c = cos(beam_rad(k, count));
+        g_lms.values[k] = (c > 0.05) ? word_of(d / c, unit) : 0x1FF7u;
+    }
+}
+
+static void prepare(const ego_prep_params_t *p)
+{
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, p, &g_scan));
+}
+
+/* Every point against the exact polar -> Cartesian of its integer range. */
+static void check_points_against_double(const ego_prep_params_t *p, double mx, double my,
+                                        double mtheta)
+{
+    const double unit_m = (g_lms.unit == LMS_UNIT_MM) ? 0.001 : 0.01;
+    uint16_t i = 0u;
+    double worst = 0.0;
+    for (unsigned k = 0u; k < g_lms.count; k++) {
+        const unsigned raw = g_lms.values[k] & 0x1FFFu;
+        const double r = raw * unit_m;
+        if (raw >= 0x1FF7u || r < fx_q16_16_to_double(p->min_range) ||
+            r > fx_q16_16_to_double(p->max_range)) {
+            continue;
+        }
+        const double a = beam_rad(k, g_lms.count) + mtheta;
+        const double ex = mx + r * cos(a);
+        const double ey = my + r * sin(a);
+        TEST_ASSERT_TRUE(i < g_scan.count);
+        const double err = fmax(fabs(fx_q16_16_to_double(g_scan.x[i]) - ex),
+                                fabs(fx_q16_16_to_double(g_scan.y[i]) - ey));
+        worst = (err > worst) ? err : worst;
+        i++;
+    }
+    TEST_ASSERT_EQUAL_UINT16(i, g_scan.count);
+    char msg[64];
+    (void)snprintf(msg, sizeof msg, "worst %.3g m", worst);
+    /* Q16.16 rounding of range and result: a few LSB of 15 um. */
+    TEST_ASSERT_TRUE_MESSAGE(worst < 4.0 / 65536.0, msg);
+}
+
+static void test_ego_scan_wall_in_every_layout(void)
+{
+    const unsigned counts[] = {181u, 361u, 101u, 201u, 401u};
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    for (unsigned c = 0u; c < 5u; c++) {
+        make_wall_scan(counts[c], LMS_UNIT_MM, 3.0);
+        prepare(&p);
+        TEST_ASSERT_EQUAL_UINT16(counts[c], g_scan.values);
+        TEST_ASSERT_TRUE(g_scan.count > 50u);
+        check_points_against_double(&p, 0.0, 0.0, 0.0);
+        for (uint16_t i = 0u; i < g_scan.count; i++) {
+            TEST_ASSERT_INT32_WITHIN(40, FX_Q16_16_C(3.0), g_scan.x[i]); /* 1 mm quantum */
+        }
+    }
+}
+
+static void test_ego_scan_centimetres_and_mount(void)
+{
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    p.mount_x = FX_Q16_16_C(1.5);
+    p.mount_y = FX_Q16_16_C(-0.25);
+    p.mount_theta = FX_BAM32_DEG_C(30.0);
+    make_wall_scan(361u, LMS_UNIT_CM, 20.0);
+    prepare(&p);
+    check_points_against_double(&p, 1.5, -0.25, 30.0 * FX_HOST_PI / 180.0);
+    /* The beam straight ahead of the scanner (value 180) lands at the
+     * mount point plus 20 m along 30 deg. */
+    uint16_t ahead = 0u;
+    for (unsigned k = 0u; k < 180u; k++) {
+        ahead = (uint16_t)(ahead + ((g_lms.values[k] & 0x1FFFu) < 0x1FF7u ? 1u : 0u));
+    }
+    TEST_ASSERT_INT32_WITHIN(8, FX_Q16_16_C(1.5 + 20.0 * 0.86602540378), g_scan.x[ahead]);
+    TEST_ASSERT_INT32_WITHIN(8, FX_Q16_16_C(-0.25 + 20.0 * 0.5), g_scan.y[ahead]);
+}
+
+static void test_ego_scan_special_values_leave_gaps(void)
+{
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    make_wall_scan(181u, LMS_UNIT_MM, 3.0);
+    g_lms.values[90] = 0x1FFFu;                   /* no return */
+    g_lms.values[91] = 0x1FFEu;                   /* dazzle */
+    g_lms.values[100] = (uint16_t)(0x8000u | 3000u); /* dazzle flag on a range: kept */
+    prepare(&p);
+    /* Values 31..149 hit the wall within 8.18 m (cos > 0.3667). */
+    uint16_t expected = 0u;
+    uint16_t before_gap = 0u;
+    for (unsigned k = 0u; k < 181u; k++) {
+        const unsigned raw = g_lms.values[k] & 0x1FFFu;
+        if (raw < 0x1FF7u && raw >= 100u) {
+            if (k < 90u) {
+                before_gap = expected;
+            }
+            expected++;
+        }
+    }
+    TEST_ASSERT_EQUAL_UINT16(expected, g_scan.count);
+    TEST_ASSERT_EQUAL_HEX8(EGO_LINK_BREAK | EGO_LINK_GAP, g_scan.flags[before_gap]);
+    for (uint16_t i = 0u; i + 1u < g_scan.count; i++) {
+        if (i != before_gap) {
+            TEST_ASSERT_EQUAL_HEX8_MESSAGE(0u, g_scan.flags[i], "a plain wall has no breaks");
+        }
+    }
+    TEST_ASSERT_EQUAL_HEX8(EGO_LINK_BREAK, g_scan.flags[g_scan.count - 1u]);
+}
+
+static void test_ego_scan_range_jumps_break(void)
+{
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    make_wall_scan(181u, LMS_UNIT_MM, 6.0);
+    for (unsigned k = 85u; k <= 95u; k++) { /* a post 2 m ahead */
+        g_lms.values[k] = word_of(2.0 / cos(beam_rad(k, 181u)), LMS_UNIT_MM);
+    }
+    prepare(&p);
+    unsigned jumps = 0u;
+    for (uint16_t i = 0u; i + 1u < g_scan.count; i++) {
+        if (g_scan.flags[i] & EGO_LINK_JUMP) {
+            TEST_ASSERT_TRUE(g_scan.flags[i] & EGO_LINK_BREAK);
+            jumps++;
+        }
+    }
+    TEST_ASSERT_EQUAL_UINT(2u, jumps);
+}
+
+static void test_ego_scan_occlusion_edge(void)
+{
+    /* A wall along the x axis at y = -0.5 m, seen at grazing angles: at 0.5
+     * deg steps near -9.5 deg the range changes too little for a jump, but
+     * the wall runs within 10 deg of the beams: occlusion edges. Further
+     * out (|angle| > 10.5 deg) the links are ordinary. */
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    memset(&g_lms, 0, sizeof g_lms);
+    g_lms.count = 361u;
+    g_lms.unit = LMS_UNIT_MM;
+    for (unsigned k = 0u; k < 361u; k++) {
+        const double a = beam_rad(k, 361u);
+        g_lms.values[k] = (a < -0.09) ? word_of(-0.5 / sin(a), LMS_UNIT_MM) : 0x1FF7u;
+    }
+    prepare(&p);
+    TEST_ASSERT_TRUE(g_scan.count > 100u);
+    unsigned occlusions = 0u;
+    for (uint16_t i = 0u; i + 1u < g_scan.count; i++) {
+        const double a = atan2(fx_q16_16_to_double(g_scan.y[i + 1u]),
+                               fx_q16_16_to_double(g_scan.x[i + 1u]));
+        const bool grazing = fabs(a) < 9.9 * FX_HOST_PI / 180.0;
+        const bool clear = fabs(a) > 10.6 * FX_HOST_PI / 180.0;
+        if (g_scan.flags[i] & EGO_LINK_OCCLUSION) {
+            occlusions++;
+            TEST_ASSERT_FALSE_MESSAGE(clear, "an ordinary link marked occlusion");
+        } else {
+            TEST_ASSERT_FALSE_MESSAGE(grazing && !(g_scan.flags[i] & EGO_LINK_JUMP),
+                                      "a grazing link not marked");
+        }
+    }
+    TEST_ASSERT_TRUE(occlusions > 0u);
+}
+
+static void test_ego_scan_range_limits_and_errors(void)
+{
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    p.max_range = FX_Q16_16_C(4.0);
+    make_wall_scan(181u, LMS_UNIT_MM, 3.0);
+    prepare(&p);
+    check_points_against_double(&p, 0.0, 0.0, 0.0);
+
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(NULL, &p, &g_scan));
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, NULL, &g_scan));
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, &p, NULL));
+    p.meas_mode = 0x3Fu; /* reflectivity: not ranges */
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, &p, &g_scan));
+    p.meas_mode = 0x07u;
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, &p, &g_scan));
+    ego_prep_defaults(&p);
+    g_lms.count = 180u; /* no LMS variant */
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_LAYOUT, ego_scan_prepare(&g_lms, &p, &g_scan));
+    TEST_ASSERT_EQUAL_UINT16(0u, g_scan.count);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_ego_scan_wall_in_every_layout);
+    RUN_TEST(test_ego_scan_centimetres_and_mount);
+    RUN_TEST(test_ego_scan_special_values_leave_gaps);
+    RUN_TEST(test_ego_scan_range_jumps_break);
+    RUN_TEST(test_ego_scan_occlusion_edge);
+    RUN_TEST(test_ego_scan_range_limits_and_errors);
+    return UNITY_END();
+}

@@ -1,0 +1,225 @@
+/* test_itcp.c - ITCP and ICP (estimator/itcp.c): the closed form against
+ * its double oracle, and registration of constructed scans with known
+ * motion. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fx_host.h"
+#include "hist.h"
+#include "itcp.h"
+#include "itcp_ref.h"
+#include "lms_test_util.h"
+#include "synth_scan.h"
+#include "tfit.h"
+#include "unity.h"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static lms_scan_t g_lms;
+static ego_scan_t g_last;
+static ego_scan_t g_current;
+static hist_t g_hist;
+
+static double rad_of(fx_bam32_t a)
+{
+    return (double)fx_bam32_diff(a, 0u) * FX_HOST_PI / 2147483648.0;
+}
+
+static void prepared_scan(const synth_wall_t *walls, unsigned nwalls, double x, double y,
+                          double heading, ego_scan_t *scan)
+{
+    synth_scan(walls, nwalls, x, y, heading, 361u, LMS_UNIT_CM, &g_lms);
+    ego_prep_params_t prep;
+    ego_prep_defaults(&prep);
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, &prep, scan));
+    tfit_params_t fit;
+    tfit_defaults(&fit);
+    tfit_fit_scan(scan, &fit);
+}
+
+static void test_itcp_closed_form_matches_double_oracle(void)
+{
+    enum { N = 300 };
+    static double x[N], y[N], u[N], v[N];
+    static bool on_main[N];
+    uint32_t rng = 99u;
+    double worst_theta = 0.0;
+    double worst_t = 0.0;
+    for (unsigned trial = 0u; trial < 200u; trial++) {
+        const unsigned n = 3u + tu_rand_range(&rng, 0u, N - 3u);
+        const double theta = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 1.5;
+        const double tx = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 6.0;
+        const double ty = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 6.0;
+        const bool weighted = (trial % 2u) == 0u;
+        const bool hold = (trial % 5u) == 0u;
+        itcp_sums_t sums;
+        itcp_sums_clear(&sums);
+        for (unsigned k = 0u; k < n; k++) {
+            const double px = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 100.0;
+            const double py = ((double)tu_rand(&rng) / 4294967296.0) * 60.0;
+            const double noise_x = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 0.05;
+            const double noise_y = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 0.05;
+            const fx_q16_16_t fx = fx_q16_16_from_double(px);
+            const fx_q16_16_t fy = fx_q16_16_from_double(py);
+            const fx_q16_16_t fu =
+                fx_q16_16_from_double(px * cos(theta) - py * sin(theta) + tx + noise_x);
+            const fx_q16_16_t fv =
+                fx_q16_16_from_double(px * sin(theta) + py * cos(theta) + ty + noise_y);
+            on_main[k] = (tu_rand(&rng) % 3u) == 0u;
+            x[k] = fx_q16_16_to_double(fx);
+            y[k] = fx_q16_16_to_double(fy);
+            u[k] = fx_q16_16_to_double(fu);
+            v[k] = fx_q16_16_to_double(fv);
+            itcp_sums_add(&sums, on_main[k], fx, fy, fu, fv);
+        }
+        ego_pose_t pose = {fx_bam32_from_rad(theta + 0.01), 0, 0};
+        double ref_theta = rad_of(pose.theta);
+        double ref_tx = 0.0;
+        double ref_ty = 0.0;
+        itcp_solve(&sums, weighted, hold, &pose);
+        itcp_ref_solve(x, y, u, v, on_main, n, weighted, hold, &ref_theta, &ref_tx, &ref_ty);
+        const double e_theta = fabs(rad_of(pose.theta) - ref_theta);
+        const double e_t = fmax(fabs(fx_q16_16_to_double(pose.x) - ref_tx),
+                                fabs(fx_q16_16_to_double(pose.y) - ref_ty));
+        worst_theta = fmax(worst_theta, e_theta);
+        worst_t = fmax(worst_t, e_t);
+    }
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "worst theta %.3g rad, t %.3g m", worst_theta, worst_t);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(worst_theta < 1e-6, msg);
+    TEST_ASSERT_TRUE_MESSAGE(worst_t < 1e-4, msg); /* 0.1 mm over a 100 m field */
+}
+
+typedef struct {
+    double dx, dy, dtheta_deg;
+} motion_t;
+
+static void register_room(const motion_t *mo, bool weighted, double init_err_deg, double tol_m,
+                          double tol_deg)
+{
+    const double th = mo->dtheta_deg * FX_HOST_PI / 180.0;
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
+    prepared_scan(synth_room, synth_room_walls, mo->dx, mo->dy, th, &g_current);
+    hist_params_t hp;
+    hist_defaults(&hp);
+    (void)hist_build(&g_last, &hp, &g_hist);
+    itcp_params_t p;
+    itcp_defaults(&p);
+    p.weighted = weighted;
+    const ego_pose_t initial = {fx_bam32_from_rad(th + init_err_deg * FX_HOST_PI / 180.0), 0, 0};
+    itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(ITCP_OK, itcp_register(&g_last, &g_current, hist_main_direction(&g_hist),
+                                                 &initial, false, &p, &r));
+    const double ex = fx_q16_16_to_double(r.pose.x) - mo->dx;
+    const double ey = fx_q16_16_to_double(r.pose.y) - mo->dy;
+    const double et = (rad_of(r.pose.theta) - th) * 180.0 / FX_HOST_PI;
+    char msg[160];
+    (void)snprintf(msg, sizeof msg,
+                   "%s (%.2f, %.2f, %.2f deg): err %.4f %.4f m %.4f deg, it %u conv %d m %u/%u "
+                   "in %u res %.4f",
+                   weighted ? "ITCP" : "ICP", mo->dx, mo->dy, mo->dtheta_deg, ex, ey, et,
+                   (unsigned)r.iterations, (int)r.converged, (unsigned)r.n_main,
+                   (unsigned)r.n_non_main, (unsigned)r.inliers,
+                   fx_q16_16_to_double(r.residual));
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(ex) < tol_m && fabs(ey) < tol_m, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(et) < tol_deg, msg);
+    TEST_ASSERT_TRUE_MESSAGE(r.converged, msg);
+    TEST_ASSERT_FALSE_MESSAGE(r.aperture, msg);
+    TEST_ASSERT_TRUE_MESSAGE(r.inliers > 200u, msg);
+}
+
+static void test_itcp_registers_known_motions(void)
+{
+    const motion_t motions[] = {
+        {0.0, 0.0, 0.0}, {0.10, 0.02, 1.0}, {0.35, -0.12, -4.0}, {0.25, 0.20, 8.0},
+    };
+    for (unsigned k = 0u; k < sizeof motions / sizeof motions[0]; k++) {
+        /* Started at the true rotation plus 0.3 deg (the histogram's
+         * accuracy) and zero translation. With 1 cm range steps the errors
+         * seen are up to 3 mm and 0.06 deg (the larger turns uncover
+         * surfaces the last scan did not see). */
+        register_room(&motions[k], true, 0.3, 0.01, 0.1);
+        register_room(&motions[k], false, 0.3, 0.01, 0.1);
+    }
+}
+
+static void test_itcp_hold_rotation_keeps_theta(void)
+{
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
+    prepared_scan(synth_room, synth_room_walls, 0.2, -0.1, 0.05, &g_current);
+    itcp_params_t p;
+    itcp_defaults(&p);
+    const ego_pose_t initial = {fx_bam32_from_rad(0.05), 0, 0};
+    itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(ITCP_OK,
+                          itcp_register(&g_last, &g_current, 0u, &initial, true, &p, &r));
+    TEST_ASSERT_EQUAL_UINT32(initial.theta, r.pose.theta);
+    TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(r.pose.x) - 0.2) < 0.01);
+    TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(r.pose.y) + 0.1) < 0.01);
+}
+
+static void test_itcp_flags_the_corridor_aperture(void)
+{
+    prepared_scan(synth_corridor, synth_corridor_walls, 0.0, 0.0, 0.0, &g_last);
+    prepared_scan(synth_corridor, synth_corridor_walls, 0.3, 0.1, 0.02, &g_current);
+    (void)hist_build(&g_last, &(hist_params_t){HIST_HTAH, 3u, FX_Q16_16_C(0.05), NULL}, &g_hist);
+    itcp_params_t p;
+    itcp_defaults(&p);
+    const ego_pose_t initial = {fx_bam32_from_rad(0.02), 0, 0};
+    itcp_result_t r;
+    (void)itcp_register(&g_last, &g_current, hist_main_direction(&g_hist), &initial, false, &p,
+                        &r);
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "n_main %u n_non %u y %.4f theta %.5f", (unsigned)r.n_main,
+                   (unsigned)r.n_non_main, fx_q16_16_to_double(r.pose.y), rad_of(r.pose.theta));
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(r.aperture, msg);
+    TEST_ASSERT_TRUE_MESSAGE(r.n_non_main * 5u < r.n_main, msg);
+    /* Across the corridor the position is observable, roughly: in a 3 m
+     * corridor only about 8 m of each wall is seen at more than the 10 deg
+     * occlusion angle, so the heading rests on a short baseline (seen:
+     * 0.3 deg and 26 mm off). The pipeline (ego.c) keeps the predicted
+     * motion along the corridor. */
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(r.pose.y) - 0.1) < 0.05, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(r.pose.theta) - 0.02) < 0.01, msg);
+}
+
+static void test_itcp_fails_cleanly_without_points(void)
+{
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
+    memset(&g_current, 0, sizeof g_current);
+    itcp_params_t p;
+    itcp_defaults(&p);
+    const ego_pose_t initial = {123u, 456, -789};
+    itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(ITCP_ERR_FEW_MATCHES,
+                          itcp_register(&g_last, &g_current, 0u, &initial, false, &p, &r));
+    TEST_ASSERT_EQUAL_UINT32(123u, r.pose.theta);
+    TEST_ASSERT_EQUAL_INT32(456, r.pose.x);
+    /* Far from anything: no matches within the radius. */
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_current);
+    const ego_pose_t far = {0u, FX_Q16_16_C(50.0), 0};
+    TEST_ASSERT_EQUAL_INT(ITCP_ERR_FEW_MATCHES,
+                          itcp_register(&g_last, &g_current, 0u, &far, false, &p, &r));
+    TEST_ASSERT_EQUAL_INT(ITCP_ERR_ARG, itcp_register(NULL, &g_current, 0u, &far, false, &p, &r));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_itcp_closed_form_matches_double_oracle);
+    RUN_TEST(test_itcp_registers_known_motions);
+    RUN_TEST(test_itcp_hold_rotation_keeps_theta);
+    RUN_TEST(test_itcp_flags_the_corridor_aperture);
+    RUN_TEST(test_itcp_fails_cleanly_without_points);
+    return UNITY_END();
+}

@@ -1,0 +1,775 @@
+/* world_check.c - checks of lmsworld's pieces and outputs (ctest label
+ * "world"). Plain C, no Unity: every failed check prints one line to
+ * stderr and the program exits 1.
+ *
+ *   world_check raycast              ray caster against closed-form ranges
+ *   world_check paths                path pieces, loop closure, speed profiles
+ *   world_check scenarios            clearance and motion limits of every
+ *                                    scenario (prints a survey)
+ *   world_check pairs TRUTH POSES N PERIOD SKIP
+ *                                    truth file consistent with the TUM poses
+ *   world_check table2 TRUTH         the pair equals the paper's Table 2
+ *   world_check decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP
+ *                                    `lmsego scans` output of a noise-free
+ *                                    stream equals freshly cast ranges
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lms_proto.h"
+#include "world_geom.h"
+#include "world_map.h"
+#include "world_path.h"
+#include "world_scan.h"
+#include "world_scenario.h"
+
+static unsigned failures;
+
+static void fail(const char *what, double got, double want)
+{
+    if (failures < 20u) {
+        (void)fprintf(stderr, "FAIL %s: got %.12g, want %.12g\n", what, got, want);
+    }
+    failures++;
+}
+
+/* got == want within tol; two infinities are equal. */
+static void expect_near(const char *what, double got, double want, double tol)
+{
+    if (isinf(want) || isinf(got)) {
+        if (!(isinf(want) && isinf(got))) {
+            fail(what, got, want);
+        }
+        return;
+    }
+    if (!(fabs(got - want) <= tol)) {
+        fail(what, got, want);
+    }
+}
+
+static void expect_true(const char *what, bool ok)
+{
+    if (!ok) {
+        fail(what, 0.0, 1.0);
+    }
+}
+
+/* The SE(2) operations written out again from carmenlog.py, so that the
+ * checks do not lean on world_geom.c: a (+) b and inverse(a) (+) b. */
+static wpose_t ref_compose(wpose_t a, wpose_t b)
+{
+    const wpose_t out = {a.x + cos(a.theta) * b.x - sin(a.theta) * b.y,
+                         a.y + sin(a.theta) * b.x + cos(a.theta) * b.y,
+                         atan2(sin(a.theta + b.theta), cos(a.theta + b.theta))};
+    return out;
+}
+
+static wpose_t ref_between(wpose_t a, wpose_t b)
+{
+    const double c = cos(a.theta);
+    const double s = sin(a.theta);
+    const double dx = b.x - a.x;
+    const double dy = b.y - a.y;
+    const wpose_t out = {c * dx + s * dy, -s * dx + c * dy,
+                         atan2(sin(b.theta - a.theta), cos(b.theta - a.theta))};
+    return out;
+}
+
+/* Difference of two angles, wrapped. */
+static double angle_diff(double a, double b)
+{
+    return atan2(sin(a - b), cos(a - b));
+}
+
+/* ------------------------------------------------------------------ */
+/* raycast */
+
+#define RES_DEG 0.5
+#define BEAMS 361u
+
+/* Scanner-frame angle of beam i, radians. */
+static double beam_phi(unsigned i)
+{
+    return ((double)i * RES_DEG - 90.0) * (WORLD_PI / 180.0);
+}
+
+static void cast_all(const wmap_t *map, wpose_t pose, double *ranges)
+{
+    wmap_t active;
+    wmap_init(&active);
+    world_scan_prepare(map, NULL, 0u, pose, 1e6, &active);
+    world_scan_cast(&active, pose, BEAMS, RES_DEG, ranges);
+    wmap_free(&active);
+}
+
+/* A straight wall 5 m ahead, perpendicular to the forward axis, 2 km
+ * long: range d / cos(phi) while the hit stays on the wall. */
+static void check_wall(void)
+{
+    const wpose_t pose = {3.2, -1.7, 0.6};
+    const double d = 5.0;
+    const double half = 1000.0;
+    const wpose_t a_local = {d, -half, 0.0};
+    const wpose_t b_local = {d, half, 0.0};
+    const wpose_t a = ref_compose(pose, a_local);
+    const wpose_t b = ref_compose(pose, b_local);
+    wmap_t map;
+    wmap_init(&map);
+    wmap_add_segment(&map, a.x, a.y, b.x, b.y);
+    double ranges[BEAMS];
+    cast_all(&map, pose, ranges);
+    unsigned hits = 0u;
+    for (unsigned i = 0u; i < BEAMS; i++) {
+        const double phi = beam_phi(i);
+        double want = INFINITY;
+        if (cos(phi) > 0.0 && d * fabs(tan(phi)) <= half) {
+            want = d / cos(phi);
+            hits++;
+        }
+        expect_near("wall range", ranges[i], want, 1e-9 * (1.0 + want));
+    }
+    expect_true("wall: 359 of 361 beams hit", hits == BEAMS - 2u);
+    expect_near("wall: beam 180 (ahead)", ranges[180], d, 1e-12);
+    expect_near("wall: beam 90 (45 deg right)", ranges[90], d * sqrt(2.0), 1e-12);
+    wmap_free(&map);
+}
+
+/* Inside the square room [0, 10] x [0, 10]: per axis the wall ahead is at
+ * (bound - p) / direction; the range is the nearer of the two. */
+static void check_room(void)
+{
+    const double size = 10.0;
+    const wpose_t pose = {3.0, 4.0, 0.3};
+    wmap_t map;
+    wmap_init(&map);
+    wmap_add_rect(&map, 0.0, 0.0, size, size);
+    double ranges[BEAMS];
+    cast_all(&map, pose, ranges);
+    for (unsigned i = 0u; i < BEAMS; i++) {
+        const double angle = pose.theta + beam_phi(i);
+        const double dx = cos(angle);
+        const double dy = sin(angle);
+        const double tx = (dx > 0.0) ? (size - pose.x) / dx : -pose.x / dx;
+        const double ty = (dy > 0.0) ? (size - pose.y) / dy : -pose.y / dy;
+        const double want = fmin(tx, ty);
+        expect_near("room range", ranges[i], want, 1e-9);
+    }
+    /* The scanner's right (beam 0) and left (beam 360) in world terms. */
+    const wpose_t right = ref_compose(pose, (wpose_t){0.0, -1.0, 0.0});
+    expect_true("room: beam 0 points to the scanner's right",
+                fabs(hypot(right.x - pose.x, right.y - pose.y) - 1.0) < 1e-12 &&
+                    ranges[0] > 0.0);
+    wmap_free(&map);
+
+    /* Corner check in scanner terms: heading 0 at (3, 4): beam 180 ahead
+     * hits x = 10 at 7 m, beam 0 (right, -y) hits y = 0 at 4 m, beam 360
+     * (left) hits y = 10 at 6 m. */
+    const wpose_t axis = {3.0, 4.0, 0.0};
+    wmap_init(&map);
+    wmap_add_rect(&map, 0.0, 0.0, size, size);
+    cast_all(&map, axis, ranges);
+    expect_near("room: ahead", ranges[180], 7.0, 1e-12);
+    expect_near("room: right", ranges[0], 4.0, 1e-12);
+    expect_near("room: left", ranges[360], 6.0, 1e-12);
+    expect_near("room: 45 deg left", ranges[270], 6.0 * sqrt(2.0), 1e-12);
+    wmap_free(&map);
+}
+
+/* A post of radius r at distance D straight ahead: the beam at phi meets
+ * it where |D sin phi| <= r, at D cos phi - sqrt(r^2 - D^2 sin^2 phi). */
+static void check_post(double dist, double r, unsigned want_hits)
+{
+    const wpose_t pose = {-4.0, 2.5, -2.0};
+    const wpose_t c = ref_compose(pose, (wpose_t){dist, 0.0, 0.0});
+    wmap_t map;
+    wmap_init(&map);
+    wmap_add_circle(&map, c.x, c.y, r);
+    double ranges[BEAMS];
+    cast_all(&map, pose, ranges);
+    unsigned hits = 0u;
+    for (unsigned i = 0u; i < BEAMS; i++) {
+        const double phi = beam_phi(i);
+        const double off = dist * sin(phi);
+        double want = INFINITY;
+        if (fabs(off) <= r && cos(phi) > 0.0) {
+            want = dist * cos(phi) - sqrt(r * r - off * off);
+            hits++;
+        }
+        expect_near("post range", ranges[i], want, 1e-9);
+    }
+    expect_near("post: beams that hit", (double)hits, (double)want_hits, 0.0);
+    expect_near("post: ahead", ranges[180], dist - r, 1e-12);
+    wmap_free(&map);
+}
+
+/* Inside a round wall of radius R, off its centre by e to the scanner's
+ * left: the beam at phi leaves at t = -b + sqrt(b^2 - q), b = (p - c).d,
+ * q = |p - c|^2 - R^2; every beam hits. */
+static void check_inside_circle(void)
+{
+    const wpose_t pose = {10.0, 20.0, 2.5};
+    const double big_r = 30.0;
+    const double e = 12.0;
+    const wpose_t c = ref_compose(pose, (wpose_t){0.0, e, 0.0});
+    wmap_t map;
+    wmap_init(&map);
+    wmap_add_circle(&map, c.x, c.y, big_r);
+    double ranges[BEAMS];
+    cast_all(&map, pose, ranges);
+    for (unsigned i = 0u; i < BEAMS; i++) {
+        /* Scanner frame: centre at (0, e), direction (cos phi, sin phi). */
+        const double phi = beam_phi(i);
+        const double b = -e * sin(phi);
+        const double q = e * e - big_r * big_r;
+        expect_near("round wall range", ranges[i], -b + sqrt(b * b - q), 1e-9);
+    }
+    expect_near("round wall: right (away from the centre)", ranges[0], big_r - e, 1e-12);
+    expect_near("round wall: left (past the centre)", ranges[360], big_r + e, 1e-12);
+    wmap_free(&map);
+}
+
+/* A moving car 10 m ahead, same heading: its rear face is 7.75 m ahead
+ * and 1.8 m wide. */
+static void check_mover(void)
+{
+    const wpose_t pose = {50.0, -20.0, 1.0};
+    const wpose_t at = ref_compose(pose, (wpose_t){10.0, 0.0, 0.0});
+    const wmover_t car = {at.x, at.y, at.theta, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH};
+    wmap_t empty;
+    wmap_t active;
+    wmap_init(&empty);
+    wmap_init(&active);
+    world_scan_prepare(&empty, &car, 1u, pose, 50.0, &active);
+    double ranges[BEAMS];
+    world_scan_cast(&active, pose, BEAMS, RES_DEG, ranges);
+    const double rear = 10.0 - 0.5 * WORLD_CAR_LENGTH;
+    for (unsigned i = 0u; i < BEAMS; i++) {
+        const double phi = beam_phi(i);
+        const double want = (cos(phi) > 0.0 && rear * fabs(tan(phi)) <= 0.5 * WORLD_CAR_WIDTH)
+                                ? rear / cos(phi)
+                                : INFINITY;
+        expect_near("car rear range", ranges[i], want, 1e-9);
+    }
+    /* Out of range: not even added. */
+    world_scan_prepare(&empty, &car, 1u, pose, 5.0, &active);
+    expect_true("car beyond the culling radius is dropped", active.seg_count == 0u);
+    wmap_free(&empty);
+    wmap_free(&active);
+}
+
+/* Culling must not change any range up to the maximum: campus map, many
+ * poses, culled against the whole map. */
+static void check_culling(void)
+{
+    const wscenario_t *campus = wscenario_find("campus");
+    wmap_t map;
+    wmap_t active;
+    wmap_init(&map);
+    wmap_init(&active);
+    campus->build_map(&map);
+    const double max_range = 50.0;
+    for (unsigned k = 0u; k < 929u; k += 37u) {
+        const wpose_t pose = campus->pose(k, 2.0 / 75.0);
+        world_scan_prepare(&map, NULL, 0u, pose, max_range, &active);
+        expect_true("culling keeps fewer primitives",
+                    active.seg_count <= map.seg_count && active.circle_count <= map.circle_count);
+        double culled[BEAMS];
+        world_scan_cast(&active, pose, BEAMS, RES_DEG, culled);
+        for (unsigned i = 0u; i < BEAMS; i++) {
+            const double angle = pose.theta + beam_phi(i);
+            const double full = wmap_cast(&map, pose.x, pose.y, cos(angle), sin(angle));
+            if (full <= max_range) {
+                expect_near("culled range", culled[i], full, 0.0);
+            } else {
+                expect_true("culled: nothing new within range", !(culled[i] <= max_range));
+            }
+        }
+    }
+    wmap_free(&map);
+    wmap_free(&active);
+}
+
+static void check_words(void)
+{
+    expect_near("cm 12.3449 m", world_range_word(12.3449, 0.0, LMS_UNIT_CM, 50.0), 1234.0, 0.0);
+    expect_near("cm 12.3451 m", world_range_word(12.3451, 0.0, LMS_UNIT_CM, 50.0), 1235.0, 0.0);
+    expect_near("cm noise", world_range_word(12.0, 0.026, LMS_UNIT_CM, 50.0), 1203.0, 0.0);
+    expect_near("cm at max", world_range_word(50.0, 0.0, LMS_UNIT_CM, 50.0), 5000.0, 0.0);
+    expect_near("cm beyond max", world_range_word(50.001, 0.0, LMS_UNIT_CM, 50.0),
+                (double)WORLD_WORD_BEYOND_CM, 0.0);
+    expect_near("cm no hit", world_range_word(INFINITY, 0.0, LMS_UNIT_CM, 50.0),
+                (double)WORLD_WORD_BEYOND_CM, 0.0);
+    expect_near("cm largest", world_range_word(81.82, 0.3, LMS_UNIT_CM, 81.82),
+                (double)WORLD_WORD_MAX_CM, 0.0);
+    expect_near("cm smallest", world_range_word(0.001, -0.5, LMS_UNIT_CM, 50.0), 1.0, 0.0);
+    expect_near("mm 7.2345 m", world_range_word(7.2345, 0.0, LMS_UNIT_MM, 50.0), 7235.0, 0.0);
+    expect_near("mm 49.9999 m", world_range_word(49.9999, 0.0, LMS_UNIT_MM, 50.0), 50000.0,
+                0.0);
+    expect_near("mm no hit", world_range_word(INFINITY, 0.0, LMS_UNIT_MM, 50.0),
+                (double)WORLD_WORD_NONE_MM, 0.0);
+    expect_near("mm beyond max", world_range_word(60.0, 0.0, LMS_UNIT_MM, 50.0),
+                (double)WORLD_WORD_NONE_MM, 0.0);
+    expect_near("mm largest", world_range_word(65.535, 0.01, LMS_UNIT_MM, 65.535),
+                (double)WORLD_WORD_MAX_MM, 0.0);
+}
+
+static int cmd_raycast(void)
+{
+    check_wall();
+    check_room();
+    check_post(7.0, 0.5, 17u);   /* +-4.1 deg */
+    check_post(42.0, 1.5, 9u);   /* +-2.05 deg */
+    check_inside_circle();
+    check_mover();
+    check_culling();
+    check_words();
+    return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* paths */
+
+static int cmd_paths(void)
+{
+    /* A square loop of side 10 with quarter circles of radius 2. */
+    const double arc = 0.5 * WORLD_PI * 2.0;
+    const wpiece_t pieces[8] = {{6.0, 0.0}, {arc, 0.5}, {6.0, 0.0}, {arc, 0.5},
+                                {6.0, 0.0}, {arc, 0.5}, {6.0, 0.0}, {arc, 0.5}};
+    wpath_t path;
+    wpath_init(&path, (wpose_t){2.0, 0.0, 0.0}, pieces, 8u, true);
+    expect_near("loop length", path.total, 24.0 + 4.0 * arc, 1e-12);
+    const wpose_t end = wpath_pose(&path, path.total - 1e-12, 0.0);
+    expect_near("loop closes x", end.x, 2.0, 1e-9);
+    expect_near("loop closes y", end.y, 0.0, 1e-9);
+    expect_near("loop closes theta", world_wrap(end.theta), 0.0, 1e-9);
+    const wpose_t corner = wpath_pose(&path, 6.0 + arc, 0.0);
+    expect_near("after the first corner x", corner.x, 10.0, 1e-12);
+    expect_near("after the first corner y", corner.y, 2.0, 1e-12);
+    expect_near("after the first corner theta", corner.theta, 0.5 * WORLD_PI, 1e-12);
+    const wpose_t mid = wpath_pose(&path, 6.0 + 0.5 * arc, 1.0);
+    /* Half way round the corner centred on (8, 2), 1 m to the left. */
+    expect_near("corner, lane offset x", mid.x, 8.0 + cos(-0.25 * WORLD_PI), 1e-12);
+    expect_near("corner, lane offset y", mid.y, 2.0 + sin(-0.25 * WORLD_PI), 1e-12);
+    const wpose_t wrapped = wpath_pose(&path, path.total + 3.0, 0.0);
+    expect_near("loop wraps", wrapped.x, 5.0, 1e-9);
+
+    /* Speed profile: the closed-form distance against Simpson's rule. */
+    const wknot_t knots[] = {{0.0, 0.0}, {4.0, 7.0}, {5.5, 6.0}, {10.0, 10.0}};
+    for (unsigned step = 0u; step <= 16u; step++) {
+        const double t = 0.75 * (double)step;
+        const unsigned n = 2000u;
+        const double h = t / (double)n;
+        double sum = wprofile_speed(knots, 4u, 0.0) + wprofile_speed(knots, 4u, t);
+        for (unsigned i = 1u; i < n; i++) {
+            sum += ((i % 2u) != 0u ? 4.0 : 2.0) * wprofile_speed(knots, 4u, (double)i * h);
+        }
+        expect_near("profile distance", wprofile_distance(knots, 4u, t), sum * h / 3.0, 1e-6);
+    }
+    expect_near("profile speed at a knot", wprofile_speed(knots, 4u, 5.5), 6.0, 1e-12);
+    expect_near("profile speed after the last knot", wprofile_speed(knots, 4u, 50.0), 10.0,
+                0.0);
+    return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* scenarios: the scanner never inside or next to anything, cars on the
+ * road, motion per scan as documented. */
+
+static double box_clearance(const wmover_t *m, double x, double y)
+{
+    wmap_t box;
+    wmap_init(&box);
+    wmap_add_box(&box, m->x, m->y, m->heading, m->length, m->width);
+    const double d = wmap_clearance(&box, x, y);
+    wmap_free(&box);
+    return d;
+}
+
+static void survey(const wscenario_t *sc, double period)
+{
+    wmap_t map;
+    wmap_init(&map);
+    sc->build_map(&map);
+    double min_clear = INFINITY;
+    double min_car = INFINITY;
+    double min_car_static = INFINITY;
+    double length = 0.0;
+    double step_min = INFINITY;
+    double step_max = 0.0;
+    double turn_max = 0.0;
+    wmover_t movers[WORLD_MAX_MOVERS];
+    wpose_t last = sc->pose(0u, period);
+    for (unsigned k = 0u; k < sc->default_scans; k++) {
+        const wpose_t p = sc->pose(k, period);
+        min_clear = fmin(min_clear, wmap_clearance(&map, p.x, p.y));
+        if (sc->movers != NULL) {
+            const size_t n = sc->movers((double)k * period, movers);
+            for (size_t i = 0u; i < n; i++) {
+                min_car = fmin(min_car, box_clearance(&movers[i], p.x, p.y));
+                min_car_static = fmin(min_car_static, wmap_clearance(&map, movers[i].x,
+                                                                     movers[i].y));
+            }
+        }
+        if (k > 0u) {
+            const wpose_t rel = world_between(last, p);
+            const double step = hypot(rel.x, rel.y);
+            length += step;
+            step_min = fmin(step_min, step);
+            step_max = fmax(step_max, step);
+            turn_max = fmax(turn_max, fabs(rel.theta) * 180.0 / WORLD_PI);
+        }
+        last = p;
+    }
+    (void)printf("%-9s %4u scans at %5.2f Hz: %7.1f m, step %.3f..%.3f m, turn <= %.2f deg, "
+                 "clearance >= %.2f m",
+                 sc->name, sc->default_scans, 1.0 / period, length, step_min, step_max, turn_max,
+                 min_clear);
+    if (sc->movers != NULL) {
+        (void)printf(", cars >= %.2f m from the scanner, car centres >= %.2f m from the map",
+                     min_car, min_car_static);
+    }
+    (void)printf("\n");
+    expect_true("scanner keeps 1.5 m from every surface", min_clear >= 1.5);
+    if (sc->movers != NULL) {
+        expect_true("cars keep 1 m from the scanner", min_car >= 1.0);
+        expect_true("cars stay on the road", min_car_static >= 2.5);
+    }
+    if (strcmp(sc->name, "fast") == 0) {
+        expect_true("fast: 2-3 m per scan (chords)", step_min >= 1.99 && step_max <= 3.0 + 1e-9);
+        expect_true("fast: up to about 10 deg per scan", turn_max >= 8.0 && turn_max <= 10.5);
+    }
+    if (strcmp(sc->name, "campus") == 0 || strcmp(sc->name, "busy") == 0) {
+        expect_true("campus: at most 10 m/s", step_max <= 10.0 * period + 1e-9);
+    }
+    if (strcmp(sc->name, "corridor") == 0) {
+        expect_true("corridor: straight", turn_max == 0.0);
+    }
+    wmap_free(&map);
+}
+
+static int cmd_scenarios(void)
+{
+    for (size_t i = 0u; i < wscenario_count(); i++) {
+        survey(wscenario_at(i), 2.0 / 75.0);
+        survey(wscenario_at(i), 1.0 / 75.0);
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* Reading the outputs. */
+
+/* Next non-comment line of fp into line; false at the end. */
+static bool next_line(FILE *fp, char *line, size_t cap)
+{
+    while (fgets(line, (int)cap, fp) != NULL) {
+        if (line[0] != '#' && line[0] != '\n') {
+            return true;
+        }
+    }
+    return false;
+}
+
+typedef struct {
+    unsigned i, j;
+    wpose_t rel;
+} pair_t;
+
+/* Exactly n numbers separated by blanks (strtod), nothing else. */
+static bool parse_numbers(const char *line, double *out, size_t n)
+{
+    const char *cursor = line;
+    for (size_t i = 0u; i < n; i++) {
+        char *end = NULL;
+        errno = 0;
+        out[i] = strtod(cursor, &end);
+        if (end == cursor || errno != 0 || !isfinite(out[i])) {
+            return false;
+        }
+        cursor = end;
+    }
+    while (*cursor == ' ' || *cursor == '\t' || *cursor == '\r' || *cursor == '\n') {
+        cursor++;
+    }
+    return *cursor == '\0';
+}
+
+/* A scan number written as a number. */
+static bool as_index(double v, unsigned *out)
+{
+    if (!(v >= 0.0 && v <= 1e9 && floor(v) == v)) {
+        return false;
+    }
+    *out = (unsigned)v;
+    return true;
+}
+
+static FILE *open_or_die(const char *path)
+{
+    FILE *fp = fopen(path, "r");
+    if (fp == NULL) {
+        (void)fprintf(stderr, "world_check: cannot open '%s': %s\n", path, strerror(errno));
+        exit(2);
+    }
+    return fp;
+}
+
+/* Reads up to cap truth lines; returns the count. */
+static size_t read_pairs(const char *path, pair_t *out, size_t cap)
+{
+    FILE *fp = open_or_die(path);
+    char line[512];
+    size_t n = 0u;
+    while (next_line(fp, line, sizeof line)) {
+        pair_t p;
+        double v[5];
+        if (!parse_numbers(line, v, 5u) || !as_index(v[0], &p.i) || !as_index(v[1], &p.j)) {
+            (void)fprintf(stderr, "FAIL bad truth line: %s", line);
+            failures++;
+            continue;
+        }
+        p.rel.x = v[2];
+        p.rel.y = v[3];
+        p.rel.theta = v[4];
+        if (n < cap) {
+            out[n] = p;
+        }
+        n++;
+    }
+    (void)fclose(fp);
+    return n;
+}
+
+typedef struct {
+    double t;
+    wpose_t pose;
+} stamped_t;
+
+static size_t read_poses(const char *path, stamped_t *out, size_t cap)
+{
+    FILE *fp = open_or_die(path);
+    char line[512];
+    size_t n = 0u;
+    while (next_line(fp, line, sizeof line)) {
+        double v[8];
+        if (!parse_numbers(line, v, 8u)) {
+            (void)fprintf(stderr, "FAIL bad pose line: %s", line);
+            failures++;
+            continue;
+        }
+        /* time x y z qx qy qz qw */
+        expect_near("pose z", v[3], 0.0, 0.0);
+        expect_near("pose qx", v[4], 0.0, 0.0);
+        expect_near("pose qy", v[5], 0.0, 0.0);
+        expect_near("unit quaternion", v[6] * v[6] + v[7] * v[7], 1.0, 1e-8);
+        if (n < cap) {
+            out[n].t = v[0];
+            out[n].pose.x = v[1];
+            out[n].pose.y = v[2];
+            out[n].pose.theta = 2.0 * atan2(v[6], v[7]);
+        }
+        n++;
+    }
+    (void)fclose(fp);
+    return n;
+}
+
+static bool parse_count(const char *text, unsigned long *out)
+{
+    char *end = NULL;
+    errno = 0;
+    const unsigned long v = strtoul(text, &end, 10);
+    if (errno != 0 || end == text || *end != '\0') {
+        return false;
+    }
+    *out = v;
+    return true;
+}
+
+/* pairs TRUTH POSES N PERIOD SKIP */
+static int cmd_pairs(const char *truth_path, const char *poses_path, const char *count_text,
+                     const char *period_text, const char *skip_text)
+{
+    unsigned long count = 0u;
+    unsigned long skip = 0u;
+    char *end = NULL;
+    const double period = strtod(period_text, &end);
+    if (!parse_count(count_text, &count) || count < 2u || count > 100000u || *end != '\0' ||
+        !parse_count(skip_text, &skip)) {
+        (void)fputs("world_check pairs: bad N or PERIOD\n", stderr);
+        return 2;
+    }
+    pair_t *pairs = calloc(count, sizeof *pairs);
+    stamped_t *poses = calloc(count, sizeof *poses);
+    if (pairs == NULL || poses == NULL) {
+        free(pairs);
+        free(poses);
+        return 2;
+    }
+    const size_t npairs = read_pairs(truth_path, pairs, count);
+    const size_t nposes = read_poses(poses_path, poses, count);
+    expect_near("number of poses", (double)nposes, (double)count, 0.0);
+    expect_near("number of pairs", (double)npairs, (double)(count - 1u), 0.0);
+    if (npairs == count - 1u && nposes == count) {
+        wpose_t chain = poses[0].pose;
+        double drift = 0.0;
+        for (size_t k = 0u; k < count; k++) {
+            expect_near("time stamp", poses[k].t, (double)(skip + k) * period, 1e-9);
+        }
+        for (size_t k = 0u; k + 1u < count; k++) {
+            const pair_t *p = &pairs[k];
+            expect_true("pair indices i, i + 1", p->i == k && p->j == k + 1u);
+            /* Local: P_i (+) rel = P_j, and rel = between(P_i, P_j). */
+            const wpose_t a = poses[k].pose;
+            const wpose_t b = poses[k + 1u].pose;
+            const wpose_t composed = ref_compose(a, p->rel);
+            expect_near("P_i (+) rel: x", composed.x, b.x, 1e-6);
+            expect_near("P_i (+) rel: y", composed.y, b.y, 1e-6);
+            expect_near("P_i (+) rel: theta", angle_diff(composed.theta, b.theta), 0.0, 1e-6);
+            const wpose_t between = ref_between(a, b);
+            expect_near("between(P_i, P_j): dx", between.x, p->rel.x, 1e-6);
+            expect_near("between(P_i, P_j): dy", between.y, p->rel.y, 1e-6);
+            expect_near("between(P_i, P_j): dtheta", angle_diff(between.theta, p->rel.theta),
+                        0.0, 1e-6);
+            expect_true("dtheta in (-pi, pi]", p->rel.theta > -WORLD_PI && p->rel.theta <= WORLD_PI);
+            /* Global: the whole chain from P_0 stays on the poses. */
+            chain = ref_compose(chain, p->rel);
+            drift = fmax(drift, hypot(chain.x - b.x, chain.y - b.y));
+            drift = fmax(drift, fabs(angle_diff(chain.theta, b.theta)));
+        }
+        expect_near("chained composition stays within 1e-4 of the poses", fmin(drift, 1.0),
+                    fmin(drift, 1e-4), 0.0);
+        (void)printf("pairs: %lu poses, largest drift of the chained truth %.3g\n", count, drift);
+    }
+    free(pairs);
+    free(poses);
+    return 0;
+}
+
+/* table2 TRUTH */
+static int cmd_table2(const char *truth_path)
+{
+    pair_t pairs[4];
+    const size_t n = read_pairs(truth_path, pairs, 4u);
+    expect_near("table2: one pair", (double)n, 1.0, 0.0);
+    if (n >= 1u) {
+        expect_true("table2: pair 0 1", pairs[0].i == 0u && pairs[0].j == 1u);
+        expect_near("table2: dx", pairs[0].rel.x, WORLD_TABLE2_DX, 1e-9);
+        expect_near("table2: dy", pairs[0].rel.y, WORLD_TABLE2_DY, 1e-9);
+        expect_near("table2: dtheta", pairs[0].rel.theta, world_rad(WORLD_TABLE2_DEG), 1e-9);
+    }
+    return 0;
+}
+
+/* decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP: each scan line of
+ * `lmsego scans` ("index unit_mm n v1 .. vn") against the ranges cast now. */
+static int cmd_decode(const char *scans_path, const char *name, const char *res_text,
+                      const char *unit_text, const char *max_text, const char *skip_text)
+{
+    unsigned long skip = 0u;
+    const wscenario_t *sc = wscenario_find(name);
+    const double res = strtod(res_text, NULL);
+    const bool mm = strcmp(unit_text, "mm") == 0;
+    const double max_range = strtod(max_text, NULL);
+    if (sc == NULL || (res != 1.0 && res != 0.5) || !(max_range > 0.0) ||
+        !parse_count(skip_text, &skip)) {
+        (void)fputs("world_check decode: bad arguments\n", stderr);
+        return 2;
+    }
+    const unsigned count = (res == 1.0) ? 181u : 361u;
+    const double period = (res == 1.0) ? 1.0 / 75.0 : 2.0 / 75.0;
+    wmap_t map;
+    wmap_t active;
+    wmap_init(&map);
+    wmap_init(&active);
+    sc->build_map(&map);
+    FILE *fp = open_or_die(scans_path);
+    static char line[8192];
+    unsigned k = 0u;
+    unsigned specials = 0u;
+    wmover_t movers[WORLD_MAX_MOVERS];
+    while (fgets(line, sizeof line, fp) != NULL) {
+        const unsigned scene_k = (unsigned)skip + k;
+        const double t = (double)scene_k * period;
+        const wpose_t pose = sc->pose(scene_k, period);
+        const size_t nm = (sc->movers != NULL) ? sc->movers(t, movers) : 0u;
+        world_scan_prepare(&map, movers, nm, pose, max_range, &active);
+        double ranges[LMS_SCAN_MAX_VALUES];
+        world_scan_cast(&active, pose, count, res, ranges);
+
+        char *cursor = line;
+        const long index = strtol(cursor, &cursor, 10);
+        const long unit_mm = strtol(cursor, &cursor, 10);
+        const long n = strtol(cursor, &cursor, 10);
+        expect_near("decoded scan index", (double)index, (double)k, 0.0);
+        expect_near("decoded unit", (double)unit_mm, mm ? 1.0 : 10.0, 0.0);
+        expect_near("decoded value count", (double)n, (double)count, 0.0);
+        for (unsigned i = 0u; i < count && n == (long)count; i++) {
+            const long got = strtol(cursor, &cursor, 10);
+            double want;
+            if (!(ranges[i] <= max_range)) {
+                want = mm ? 0.0 : -7.0; /* 0F: value 0; 00: beyond max */
+                specials++;
+            } else {
+                want = mm ? fmin(65535.0, fmax(1.0, round(ranges[i] * 1000.0)))
+                          : 10.0 * fmin(8182.0, fmax(1.0, round(ranges[i] * 100.0)));
+            }
+            expect_near("decoded value", (double)got, want, 0.0);
+        }
+        k++;
+    }
+    (void)fclose(fp);
+    (void)printf("decode: %u scans, %u beams without a surface within %g m\n", k, specials,
+                 max_range);
+    expect_true("decode: some scans", k > 0u);
+    wmap_free(&map);
+    wmap_free(&active);
+    return 0;
+}
+
+static int usage(void)
+{
+    (void)fputs("usage: world_check raycast | paths | scenarios |\n"
+                "       pairs TRUTH POSES N PERIOD SKIP | table2 TRUTH |\n"
+                "       decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP\n",
+                stderr);
+    return 2;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        return usage();
+    }
+    const char *cmd = argv[1];
+    int rc;
+    if (strcmp(cmd, "raycast") == 0 && argc == 2) {
+        rc = cmd_raycast();
+    } else if (strcmp(cmd, "paths") == 0 && argc == 2) {
+        rc = cmd_paths();
+    } else if (strcmp(cmd, "scenarios") == 0 && argc == 2) {
+        rc = cmd_scenarios();
+    } else if (strcmp(cmd, "pairs") == 0 && argc == 7) {
+        rc = cmd_pairs(argv[2], argv[3], argv[4], argv[5], argv[6]);
+    } else if (strcmp(cmd, "table2") == 0 && argc == 3) {
+        rc = cmd_table2(argv[2]);
+    } else if (strcmp(cmd, "decode") == 0 && argc == 8) {
+        rc = cmd_decode(argv[2], argv[3], argv[4], argv[5], argv[6], argv[7]);
+    } else {
+        return usage();
+    }
+    if (rc != 0) {
+        return rc;
+    }
+    if (failures > 0u) {
+        (void)fprintf(stderr, "world_check %s: %u failed checks\n", cmd, failures);
+        return 1;
+    }
+    (void)printf("world_check %s: ok\n", cmd);
+    return 0;
+}

@@ -1,0 +1,51 @@
+/* world_scan.h - one LMS 2xx scan from a map and a pose, and the value
+ * words that carry its ranges (host-only).
+ *
+ * Beams: a 180 deg field at res_deg (1 or 0.5), beam i at the LMS angle
+ * a_i = i * res_deg (0 = the scanner's right, 90 = ahead, 180 = left), i.e.
+ * at a_i - 90 deg in the scanner frame (x forward, y left).
+ *
+ * Value words (docs/synthetic-worlds.md, "Units and special values"):
+ *   cm: measuring mode 00, 13-bit ranges 1..0x1FF6 (81.82 m); a beam with
+ *       no surface within the maximum range is 0x1FF7 (beyond max).
+ *   mm: measuring mode 0F, 16-bit ranges 1..0xFFFF (65.535 m), no special
+ *       codes; a beam with no surface within the maximum range is 0, which
+ *       is never a real return.
+ */
+#ifndef LMSWORLD_SCAN_H
+#define LMSWORLD_SCAN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lms_proto.h"
+#include "world_geom.h"
+#include "world_map.h"
+#include "world_scenario.h"
+
+#define WORLD_WORD_MAX_CM 0x1FF6u   /* mode 00: largest range */
+#define WORLD_WORD_BEYOND_CM 0x1FF7u /* mode 00: measured value > maximum */
+#define WORLD_WORD_MAX_MM 0xFFFFu   /* mode 0F: largest range */
+#define WORLD_WORD_NONE_MM 0x0000u  /* mode 0F: no surface within range */
+
+/* Largest --max-range per unit, m. */
+#define WORLD_MAX_RANGE_CM 81.82
+#define WORLD_MAX_RANGE_MM 65.535
+
+/* Fills active (cleared first) with what the scanner at pose can see up
+ * to max_range: the static primitives ahead of it and the movers. */
+void world_scan_prepare(const wmap_t *static_map, const wmover_t *movers, size_t mover_count,
+                        wpose_t pose, double max_range, wmap_t *active);
+
+/* Ranges of the count beams (count = 180 / res_deg + 1) in metres;
+ * INFINITY where nothing is hit. */
+void world_scan_cast(const wmap_t *active, wpose_t pose, unsigned count, double res_deg,
+                     double *ranges);
+
+/* The value word of one beam: range (m, INFINITY for no hit) plus noise
+ * (m), rounded to the nearest unit. A true range beyond max_range gives
+ * the no-surface word of the unit; a noisy range is kept within
+ * 1..the largest range of the unit. */
+uint16_t world_range_word(double range, double noise, lms_unit_t unit, double max_range);
+
+#endif /* LMSWORLD_SCAN_H */

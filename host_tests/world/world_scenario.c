@@ -1,0 +1,405 @@
+/* world_scenario.c - see world_scenario.h; the numbers are explained in
+ * docs/synthetic-worlds.md.
+ *
+ * The campus: a ring road (a 200 m x 70 m rounded rectangle, corner
+ * radius 17 m, driven counter-clockwise in the right-hand lane; the
+ * oncoming lane is 3.5 m to the left) with the corridor stretch on its
+ * bottom edge, buildings, a rotunda and a parking lot inside it, and a
+ * plaza with a round fountain north of it. Nothing stands within 4 m of
+ * the lane centre on the outside or 7.5 m on the inside.
+ */
+#include "world_scenario.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+#include "world_path.h"
+
+/* ------------------------------------------------------------------ */
+/* Building outlines with recessed facades. */
+
+enum { EDGE_S = 1, EDGE_E = 2, EDGE_N = 4, EDGE_W = 8 };
+
+#define POLY_MAX_POINTS 512u
+
+typedef struct {
+    double xy[2u * POLY_MAX_POINTS];
+    size_t n;
+} poly_t;
+
+static void poly_add(poly_t *p, double x, double y)
+{
+    if (p->n < POLY_MAX_POINTS) {
+        p->xy[2u * p->n] = x;
+        p->xy[2u * p->n + 1u] = y;
+        p->n++;
+    }
+}
+
+/* The edge from a towards b (b itself is the next edge's first point). A
+ * notched edge gets recesses notch_w wide and notch_d deep every period
+ * metres, centred on the edge; they go to the left of a -> b, which is
+ * inside a counter-clockwise outline. */
+static void poly_edge(poly_t *p, double ax, double ay, double bx, double by, bool notched,
+                      double period, double notch_w, double notch_d)
+{
+    poly_add(p, ax, ay);
+    if (!notched) {
+        return;
+    }
+    const double len = hypot(bx - ax, by - ay);
+    const double ux = (bx - ax) / len;
+    const double uy = (by - ay) / len;
+    const double nx = -uy * notch_d;
+    const double ny = ux * notch_d;
+    if (len < period) {
+        return;
+    }
+    const unsigned count = (unsigned)floor((len - period) / period) + 1u;
+    const double first = 0.5 * (len - (double)(count - 1u) * period - notch_w);
+    for (unsigned j = 0u; j < count; j++) {
+        const double s0 = first + (double)j * period;
+        const double s1 = s0 + notch_w;
+        poly_add(p, ax + ux * s0, ay + uy * s0);
+        poly_add(p, ax + ux * s0 + nx, ay + uy * s0 + ny);
+        poly_add(p, ax + ux * s1 + nx, ay + uy * s1 + ny);
+        poly_add(p, ax + ux * s1, ay + uy * s1);
+    }
+}
+
+/* Rectangle [x0, x1] x [y0, y1]; the edges named in notched (EDGE_*) get
+ * recesses. */
+static void add_building(wmap_t *map, double x0, double y0, double x1, double y1,
+                         unsigned notched, double period, double notch_w, double notch_d)
+{
+    static poly_t p;
+    p.n = 0u;
+    poly_edge(&p, x0, y0, x1, y0, (notched & EDGE_S) != 0u, period, notch_w, notch_d);
+    poly_edge(&p, x1, y0, x1, y1, (notched & EDGE_E) != 0u, period, notch_w, notch_d);
+    poly_edge(&p, x1, y1, x0, y1, (notched & EDGE_N) != 0u, period, notch_w, notch_d);
+    poly_edge(&p, x0, y1, x0, y0, (notched & EDGE_W) != 0u, period, notch_w, notch_d);
+    wmap_add_polyline(map, p.xy, p.n, 1);
+}
+
+/* A square post of side size centred on (x, y). */
+static void add_post(wmap_t *map, double x, double y, double size)
+{
+    wmap_add_rect(map, x - 0.5 * size, y - 0.5 * size, x + 0.5 * size, y + 0.5 * size);
+}
+
+/* ------------------------------------------------------------------ */
+/* The campus map. */
+
+#define TREE_R 0.35
+#define POST_SIZE 0.25
+
+#define PLAZA_X 100.0
+#define PLAZA_Y 105.0
+#define FOUNTAIN_R 3.0
+
+static void build_campus_inside(wmap_t *m)
+{
+    /* North side of the corridor: one long flat facade at y = 7.75. */
+    add_building(m, 30.0, 7.75, 170.0, 24.0, EDGE_N, 10.0, 3.0, 1.0);
+    /* Lecture hall, rotunda, two small buildings. */
+    add_building(m, 35.0, 32.0, 80.0, 56.0, EDGE_N | EDGE_W | EDGE_E, 6.0, 2.0, 0.8);
+    wmap_add_circle(m, 95.0, 43.0, 7.0);
+    add_building(m, 12.0, 30.0, 26.0, 46.0, 0u, 1.0, 0.0, 0.0);
+    add_building(m, 176.0, 28.0, 190.0, 46.0, EDGE_W, 5.0, 1.5, 0.6);
+    /* Parking lot: two rows of cars parked nose in, 2.7 m apart. */
+    static const char rows[2][18] = {"11011101110110111", "10111011011101101"};
+    for (size_t r = 0u; r < 2u; r++) {
+        for (size_t j = 0u; j < 17u; j++) {
+            if (rows[r][j] == '1') {
+                wmap_add_box(m, 118.0 + 2.7 * (double)j, (r == 0u) ? 37.0 : 49.0, 0.5 * WORLD_PI,
+                             WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+            }
+        }
+    }
+    /* Trees and lamp posts along the inside of the top road. */
+    for (unsigned j = 0u; j <= 14u; j++) {
+        wmap_add_circle(m, 30.0 + 10.0 * (double)j, 60.5, TREE_R);
+    }
+    for (unsigned j = 0u; j <= 6u; j++) {
+        add_post(m, 35.0 + 20.0 * (double)j, 61.8, POST_SIZE);
+    }
+    wmap_add_circle(m, 12.0, 52.0, TREE_R);
+    /* Bollards along the inside of the left road. */
+    for (unsigned j = 0u; j <= 10u; j++) {
+        wmap_add_circle(m, 8.5, 21.0 + 3.0 * (double)j, 0.1);
+    }
+    wmap_add_circle(m, 186.0, 55.0, TREE_R);
+}
+
+static void build_campus_outside(wmap_t *m)
+{
+    /* South side of the corridor: flat facade at y = -4. */
+    add_building(m, 30.0, -24.0, 170.0, -4.0, EDGE_S, 12.0, 4.0, 1.5);
+    /* South-west and south-east blocks, and trees along the road. */
+    add_building(m, -30.0, -40.0, 22.0, -12.0, EDGE_N, 7.0, 2.5, 1.0);
+    add_building(m, 178.0, -40.0, 230.0, -12.0, EDGE_N, 7.0, 2.5, 1.0);
+    for (unsigned j = 0u; j <= 6u; j++) {
+        wmap_add_circle(m, -20.0 + 8.0 * (double)j, -6.5, TREE_R);
+        wmap_add_circle(m, 172.0 + 8.0 * (double)j, -6.5, TREE_R);
+    }
+    /* West: a long building, a wall to the south block, parked cars. */
+    add_building(m, -45.0, 5.0, -12.0, 65.0, EDGE_E, 8.0, 3.0, 1.2);
+    wmap_add_segment(m, -12.0, 5.0, -12.0, -12.0);
+    static const double parked_y[] = {21.0, 27.5, 34.0, 47.0};
+    for (size_t j = 0u; j < sizeof parked_y / sizeof parked_y[0]; j++) {
+        wmap_add_box(m, -5.5, parked_y[j], 0.5 * WORLD_PI, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+    }
+    /* East: a building with a recessed facade, a row of trees. */
+    add_building(m, 210.0, 0.0, 240.0, 40.0, EDGE_W, 6.0, 2.0, 1.0);
+    for (unsigned j = 0u; j <= 5u; j++) {
+        wmap_add_circle(m, 205.5, 10.0 + 9.0 * (double)j, TREE_R);
+    }
+    /* North-east: a zig-zag fence, 3 m panels. */
+    double fence[2u * 21u];
+    for (unsigned j = 0u; j <= 20u; j++) {
+        fence[2u * j] = 172.0 + 3.0 * (double)j;
+        fence[2u * j + 1u] = 79.0 + (((j % 2u) != 0u) ? 0.3 : -0.3);
+    }
+    wmap_add_polyline(m, fence, 21u, 0);
+    /* Trees along the outside of the top road, a bus shelter, and the
+     * north-west block behind them. */
+    for (unsigned j = 0u; j <= 13u; j++) {
+        wmap_add_circle(m, 20.0 + 12.0 * (double)j, 76.0, TREE_R);
+    }
+    wmap_add_rect(m, 28.0, 77.5, 34.0, 78.7);
+    add_building(m, -40.0, 84.0, 20.0, 120.0, EDGE_S | EDGE_E, 7.0, 2.5, 1.2);
+}
+
+static void build_plaza(wmap_t *m)
+{
+    /* The round fountain, four benches around it, a ring of trees and a
+     * ring of lamp posts. */
+    wmap_add_circle(m, PLAZA_X, PLAZA_Y, FOUNTAIN_R);
+    for (unsigned j = 0u; j < 4u; j++) {
+        const double a = world_rad(45.0 + 90.0 * (double)j);
+        wmap_add_box(m, PLAZA_X + 7.0 * cos(a), PLAZA_Y + 7.0 * sin(a), a + 0.5 * WORLD_PI, 2.0,
+                     0.6);
+    }
+    for (unsigned j = 0u; j < 12u; j++) {
+        const double a = world_rad(15.0 + 30.0 * (double)j);
+        wmap_add_circle(m, PLAZA_X + 19.0 * cos(a), PLAZA_Y + 19.0 * sin(a), 0.3);
+    }
+    for (unsigned j = 0u; j < 8u; j++) {
+        const double a = world_rad(45.0 * (double)j);
+        add_post(m, PLAZA_X + 16.5 * cos(a), PLAZA_Y + 16.5 * sin(a), POST_SIZE);
+    }
+    /* Library to the north, a block to the west, an L-shaped block east. */
+    add_building(m, 60.0, 130.0, 140.0, 150.0, EDGE_S, 8.0, 3.0, 1.5);
+    add_building(m, 42.0, 84.0, 66.0, 122.0, EDGE_E, 6.0, 2.0, 1.0);
+    static const double ell[] = {134.0, 82.0,  168.0, 82.0,  168.0, 126.0,
+                                 152.0, 126.0, 152.0, 98.0,  134.0, 98.0};
+    wmap_add_polyline(m, ell, 6u, 1);
+}
+
+static void build_campus(wmap_t *m)
+{
+    build_campus_inside(m);
+    build_campus_outside(m);
+    build_plaza(m);
+}
+
+/* ------------------------------------------------------------------ */
+/* The ring road: lane centre of the counter-clockwise direction. */
+
+#define LOOP_W 200.0
+#define LOOP_H 70.0
+#define LOOP_R 17.0
+#define LANE_OFFSET 3.5 /* oncoming lane, to the left */
+
+static void loop_path(wpath_t *path)
+{
+    const double arc = 0.5 * WORLD_PI * LOOP_R;
+    const wpiece_t pieces[8] = {
+        {LOOP_W - 2.0 * LOOP_R, 0.0}, {arc, 1.0 / LOOP_R}, {LOOP_H - 2.0 * LOOP_R, 0.0},
+        {arc, 1.0 / LOOP_R},          {LOOP_W - 2.0 * LOOP_R, 0.0}, {arc, 1.0 / LOOP_R},
+        {LOOP_H - 2.0 * LOOP_R, 0.0}, {arc, 1.0 / LOOP_R},
+    };
+    const wpose_t start = {LOOP_R, 0.0, 0.0};
+    wpath_init(path, start, pieces, 8u, true);
+}
+
+/* Arc length of the campus start: (45, 70) on the top edge, heading west. */
+static double campus_start(const wpath_t *loop)
+{
+    return loop->offsets[4] + (LOOP_W - LOOP_R - 45.0);
+}
+
+/* Campus speed profile: from rest to 7 m/s, 6 m/s through the first
+ * corner, 9 m/s on the left edge, 6 m/s through the second corner, then
+ * 10 m/s into the corridor. */
+static const wknot_t campus_knots[] = {
+    {0.0, 0.0},  {4.0, 7.0},  {5.5, 6.0},  {10.0, 6.0}, {12.0, 9.0},
+    {13.0, 9.0}, {14.5, 6.0}, {19.0, 6.0}, {21.0, 10.0},
+};
+#define CAMPUS_KNOTS (sizeof campus_knots / sizeof campus_knots[0])
+
+static double campus_s(const wpath_t *loop, double t)
+{
+    return campus_start(loop) + wprofile_distance(campus_knots, CAMPUS_KNOTS, t);
+}
+
+static wpose_t campus_pose(unsigned k, double period)
+{
+    wpath_t loop;
+    loop_path(&loop);
+    return wpath_pose(&loop, campus_s(&loop, (double)k * period), 0.0);
+}
+
+/* ------------------------------------------------------------------ */
+/* busy: the campus drive with traffic. */
+
+typedef struct {
+    double ahead; /* m, arc length ahead of the ego's start at t = 0 */
+    double speed; /* m/s */
+} oncoming_t;
+
+static const oncoming_t oncoming[] = {
+    {60.0, 8.0}, {110.0, 9.0}, {150.0, 7.5}, {200.0, 9.0}, {250.0, 8.5}, {300.0, 8.0},
+};
+#define ONCOMING_COUNT (sizeof oncoming / sizeof oncoming[0])
+
+static void set_mover(wmover_t *m, wpose_t p)
+{
+    m->x = p.x;
+    m->y = p.y;
+    m->heading = p.theta;
+    m->length = WORLD_CAR_LENGTH;
+    m->width = WORLD_CAR_WIDTH;
+}
+
+static size_t busy_movers(double t, wmover_t *out)
+{
+    wpath_t loop;
+    loop_path(&loop);
+    size_t n = 0u;
+    /* The car ahead, in the ego's lane, 12-20 m ahead (period 12 s). */
+    const double gap = 16.0 + 4.0 * sin(2.0 * WORLD_PI * t / 12.0);
+    set_mover(&out[n++], wpath_pose(&loop, campus_s(&loop, t) + gap, 0.0));
+    /* Oncoming traffic in the other lane. */
+    const double s0 = campus_start(&loop);
+    for (size_t i = 0u; i < ONCOMING_COUNT && n < WORLD_MAX_MOVERS; i++) {
+        wpose_t p = wpath_pose(&loop, s0 + oncoming[i].ahead - oncoming[i].speed * t, LANE_OFFSET);
+        p.theta = world_wrap(p.theta + WORLD_PI);
+        set_mover(&out[n++], p);
+    }
+    return n;
+}
+
+/* ------------------------------------------------------------------ */
+/* fast: the ring road at 2-3 m per scan. */
+
+#define FAST_STEP 2.5        /* m per scan on average */
+#define FAST_SWING 0.5       /* +- m per scan */
+#define FAST_PERIOD_SCANS 37.0
+
+static wpose_t fast_pose(unsigned k, double period)
+{
+    (void)period;
+    wpath_t loop;
+    loop_path(&loop);
+    /* s(k + 1) - s(k) = STEP + SWING cos(2 pi (k + 1/2) / P) exactly. */
+    const double amp = 0.5 * FAST_SWING / sin(WORLD_PI / FAST_PERIOD_SCANS);
+    const double s = FAST_STEP * (double)k +
+                     amp * sin(2.0 * WORLD_PI * (double)k / FAST_PERIOD_SCANS);
+    return wpath_pose(&loop, campus_start(&loop) + s, 0.0);
+}
+
+/* ------------------------------------------------------------------ */
+/* circle: 27 m diameter around the plaza's fountain at 3 m/s. */
+
+#define CIRCLE_R 13.5
+#define CIRCLE_SPEED 3.0
+
+static wpose_t circle_pose(unsigned k, double period)
+{
+    const double phi = -0.5 * WORLD_PI + CIRCLE_SPEED * (double)k * period / CIRCLE_R;
+    wpose_t p;
+    p.x = PLAZA_X + CIRCLE_R * cos(phi);
+    p.y = PLAZA_Y + CIRCLE_R * sin(phi);
+    p.theta = world_wrap(phi + 0.5 * WORLD_PI);
+    return p;
+}
+
+/* ------------------------------------------------------------------ */
+/* table2: one pair in the plaza. */
+
+static wpose_t table2_pose(unsigned k, double period)
+{
+    (void)period;
+    const wpose_t first = {108.0, 96.0, world_rad(100.0)};
+    if (k == 0u) {
+        return first;
+    }
+    const wpose_t rel = {WORLD_TABLE2_DX, WORLD_TABLE2_DY, world_rad(WORLD_TABLE2_DEG)};
+    return world_compose(first, rel);
+}
+
+/* ------------------------------------------------------------------ */
+/* corridor: two parallel walls, 7.5 m apart, 3 km long. */
+
+#define CORRIDOR_LEFT 4.5
+#define CORRIDOR_RIGHT (-3.0)
+#define CORRIDOR_BACK (-60.0)
+#define CORRIDOR_END 3000.0
+
+static void build_corridor(wmap_t *m)
+{
+    wmap_add_segment(m, CORRIDOR_BACK, CORRIDOR_RIGHT, CORRIDOR_END, CORRIDOR_RIGHT);
+    wmap_add_segment(m, CORRIDOR_BACK, CORRIDOR_LEFT, CORRIDOR_END, CORRIDOR_LEFT);
+    wmap_add_segment(m, CORRIDOR_BACK, CORRIDOR_RIGHT, CORRIDOR_BACK, CORRIDOR_LEFT);
+    wmap_add_segment(m, CORRIDOR_END, CORRIDOR_RIGHT, CORRIDOR_END, CORRIDOR_LEFT);
+}
+
+/* Speed 8 +- 2 m/s (period 10 s): s(t) = 8 t + (10 / pi)(1 - cos(2 pi t / 10)). */
+static wpose_t corridor_pose(unsigned k, double period)
+{
+    const double t = (double)k * period;
+    wpose_t p;
+    p.x = 8.0 * t + (10.0 / WORLD_PI) * (1.0 - cos(2.0 * WORLD_PI * t / 10.0));
+    p.y = 0.0;
+    p.theta = 0.0;
+    return p;
+}
+
+/* ------------------------------------------------------------------ */
+
+static const wscenario_t scenarios[] = {
+    {"campus", "campus drive, 0-10 m/s, two corners, into the corridor (929 scans)", 929u, 0u,
+     build_campus, campus_pose, NULL},
+    {"circle", "27 m circle around the plaza fountain at 3 m/s (1200 scans)", 1200u, 0u,
+     build_campus, circle_pose, NULL},
+    {"corridor", "3 km corridor, 7.5 m wide, driven straight at 6-10 m/s (700 scans)", 700u,
+     0u, build_corridor, corridor_pose, NULL},
+    {"table2", "the paper's Table 2 pair: 25.07 deg, (-2.439, 3.568) m (2 scans)", 2u, 2u,
+     build_campus, table2_pose, NULL},
+    {"fast", "ring road at 2-3 m and up to ~10 deg per scan (200 scans)", 200u, 0u,
+     build_campus, fast_pose, NULL},
+    {"busy", "the campus drive with a car ahead and oncoming traffic (929 scans)", 929u, 0u,
+     build_campus, campus_pose, busy_movers},
+};
+
+size_t wscenario_count(void)
+{
+    return sizeof scenarios / sizeof scenarios[0];
+}
+
+const wscenario_t *wscenario_at(size_t index)
+{
+    return (index < wscenario_count()) ? &scenarios[index] : NULL;
+}
+
+const wscenario_t *wscenario_find(const char *name)
+{
+    for (size_t i = 0u; i < wscenario_count(); i++) {
+        if (strcmp(scenarios[i].name, name) == 0) {
+            return &scenarios[i];
+        }
+    }
+    return NULL;
+}

@@ -1,0 +1,51 @@
+/* world_scenario.h - the scenarios of lmsworld: a static map, the
+ * scanner's trajectory and, for some, moving vehicles (host-only).
+ * docs/synthetic-worlds.md describes every map and trajectory.
+ */
+#ifndef LMSWORLD_SCENARIO_H
+#define LMSWORLD_SCENARIO_H
+
+#include <stddef.h>
+
+#include "world_geom.h"
+#include "world_map.h"
+
+/* A moving vehicle at one instant: a rectangle. */
+typedef struct {
+    double x, y;    /* centre, m */
+    double heading; /* rad, direction of its length */
+    double length;  /* m */
+    double width;   /* m */
+} wmover_t;
+
+#define WORLD_MAX_MOVERS 16u
+
+/* Vehicle size used for parked and moving cars. */
+#define WORLD_CAR_LENGTH 4.5
+#define WORLD_CAR_WIDTH 1.8
+
+typedef struct {
+    const char *name;
+    const char *summary;      /* one line for --help */
+    unsigned default_scans;
+    unsigned required_scans;  /* 0 = any number; else exactly this many */
+    void (*build_map)(wmap_t *map);
+    /* Scanner pose of scan k; the scan period is period seconds. */
+    wpose_t (*pose)(unsigned k, double period);
+    /* Moving vehicles at time t (s), at most WORLD_MAX_MOVERS; NULL: none. */
+    size_t (*movers)(double t, wmover_t *out);
+} wscenario_t;
+
+/* The scenario called name, or NULL. */
+const wscenario_t *wscenario_find(const char *name);
+
+/* All scenarios, in a fixed order. */
+size_t wscenario_count(void);
+const wscenario_t *wscenario_at(size_t index);
+
+/* Table 2 of the paper: the pose of scan 1 in the frame of scan 0. */
+#define WORLD_TABLE2_DX (-2.439)
+#define WORLD_TABLE2_DY 3.568
+#define WORLD_TABLE2_DEG 25.07
+
+#endif /* LMSWORLD_SCENARIO_H */

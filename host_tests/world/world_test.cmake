@@ -1,0 +1,153 @@
+# world_test.cmake - one lmsworld test (see CMakeLists.txt beside it).
+#
+#   cmake -DMODE=m -DNAME=n -DLMSWORLD=path -DWORLD_CHECK=path -DLMSEGO=path
+#         -DOUT_DIR=dir -DSHIPPED_DIR=dir [-DKEY=value ...]
+#         -DARG1=.. -DARG2=.. (lmsworld options, one per variable)
+#         -P world_test.cmake
+#
+# MODE determinism  run twice, stream / truth / poses byte-identical
+#      seed         seeds 1 and 2 differ (noise on), seed 1 twice does not
+#      pairs        truth consistent with the poses (SCANS, PERIOD, SKIP)
+#      stats        `lmsego stats` = SCANS scans, SCANS + 1 telegrams, no error
+#      decode       `lmsego scans` values = cast ranges (SCENARIO RES UNIT
+#                   MAX_RANGE SKIP; mm streams are read in mode 0F)
+#      table2       the single truth line is the paper's Table 2 pair
+#      usage        lmsworld exits EXPECT_RC and writes no stream
+#      regen        outputs equal SHIPPED_DIR/NAME.{lms,pairs,tum}
+cmake_minimum_required(VERSION 3.21)
+foreach(var MODE NAME LMSWORLD WORLD_CHECK LMSEGO OUT_DIR SHIPPED_DIR)
+    if(NOT DEFINED ${var})
+        message(FATAL_ERROR "world_test.cmake: ${var} is not set")
+    endif()
+endforeach()
+
+set(args "")
+foreach(i RANGE 1 30)
+    if(DEFINED ARG${i})
+        list(APPEND args "${ARG${i}}")
+    endif()
+endforeach()
+
+set(dir ${OUT_DIR}/${NAME})
+file(REMOVE_RECURSE ${dir})
+file(MAKE_DIRECTORY ${dir})
+
+# generate(prefix extra-args...): lmsworld ARGS -o prefix.lms --truth
+# prefix.pairs --poses prefix.tum, failing the test on a nonzero exit.
+function(generate prefix)
+    execute_process(
+        COMMAND ${LMSWORLD} ${args} ${ARGN} -o ${prefix}.lms --truth ${prefix}.pairs
+                --poses ${prefix}.tum
+        RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc STREQUAL "0")
+        message(FATAL_ERROR "lmsworld failed (${rc}): ${err}")
+    endif()
+endfunction()
+
+function(run_checked)
+    execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc STREQUAL "0")
+        message(FATAL_ERROR "${ARGN}\nfailed (${rc}):\n${out}${err}")
+    endif()
+    message("${out}")
+endfunction()
+
+# same(a b): 1 when the files are byte-identical.
+function(same a b result)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${a} ${b} RESULT_VARIABLE rc)
+    if(rc STREQUAL "0")
+        set(${result} 1 PARENT_SCOPE)
+    else()
+        set(${result} 0 PARENT_SCOPE)
+    endif()
+endfunction()
+
+if(MODE STREQUAL "determinism")
+    generate(${dir}/a)
+    generate(${dir}/b)
+    foreach(ext lms pairs tum)
+        same(${dir}/a.${ext} ${dir}/b.${ext} ok)
+        if(NOT ok)
+            message(FATAL_ERROR "two runs gave different .${ext} files")
+        endif()
+    endforeach()
+elseif(MODE STREQUAL "seed")
+    generate(${dir}/a --seed 1)
+    generate(${dir}/b --seed 1)
+    generate(${dir}/c --seed 2)
+    same(${dir}/a.lms ${dir}/b.lms ok)
+    if(NOT ok)
+        message(FATAL_ERROR "seed 1 twice gave different streams")
+    endif()
+    same(${dir}/a.lms ${dir}/c.lms ok)
+    if(ok)
+        message(FATAL_ERROR "seeds 1 and 2 gave the same noisy stream")
+    endif()
+    foreach(ext pairs tum)
+        file(STRINGS ${dir}/a.${ext} a_lines REGEX "^[^#]")
+        file(STRINGS ${dir}/c.${ext} c_lines REGEX "^[^#]")
+        if(NOT a_lines STREQUAL c_lines)
+            message(FATAL_ERROR "the seed changed the ground truth (.${ext})")
+        endif()
+    endforeach()
+elseif(MODE STREQUAL "pairs")
+    generate(${dir}/s)
+    run_checked(${WORLD_CHECK} pairs ${dir}/s.pairs ${dir}/s.tum ${SCANS} ${PERIOD} ${SKIP})
+elseif(MODE STREQUAL "stats")
+    generate(${dir}/s)
+    file(SIZE ${dir}/s.lms bytes)
+    math(EXPR telegrams "${SCANS} + 1")
+    set(want "telegrams=${telegrams} scans=${SCANS} crc_errors=0 length_errors=0 bytes_skipped=0"
+             " resyncs=0 truncated=0 acks=1 naks=0 bytes=${bytes} decode_errors=0\n")
+    string(CONCAT want ${want})
+    execute_process(COMMAND ${LMSEGO} stats ${dir}/s.lms
+        RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc STREQUAL "0" OR NOT out STREQUAL want)
+        message(FATAL_ERROR "lmsego stats (${rc}) said:\n${out}${err}wanted:\n${want}")
+    endif()
+elseif(MODE STREQUAL "decode")
+    generate(${dir}/s)
+    set(mode_args "")
+    if(UNIT STREQUAL "mm")
+        set(mode_args --mode 0F)
+    endif()
+    execute_process(COMMAND ${LMSEGO} scans ${mode_args} ${dir}/s.lms
+        OUTPUT_FILE ${dir}/s.scans RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc STREQUAL "0")
+        message(FATAL_ERROR "lmsego scans failed (${rc}): ${err}")
+    endif()
+    run_checked(${WORLD_CHECK} decode ${dir}/s.scans ${SCENARIO} ${RES} ${UNIT} ${MAX_RANGE}
+        ${SKIP})
+elseif(MODE STREQUAL "table2")
+    generate(${dir}/s)
+    run_checked(${WORLD_CHECK} table2 ${dir}/s.pairs)
+elseif(MODE STREQUAL "usage")
+    execute_process(COMMAND ${LMSWORLD} ${args}
+        WORKING_DIRECTORY ${dir} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc STREQUAL "${EXPECT_RC}")
+        message(FATAL_ERROR "lmsworld exited ${rc}, wanted ${EXPECT_RC}: ${out}${err}")
+    endif()
+    if(err STREQUAL "" OR NOT out STREQUAL "")
+        message(FATAL_ERROR "wanted a message on stderr only: stdout '${out}' stderr '${err}'")
+    endif()
+    file(GLOB written ${dir}/*)
+    if(written)
+        message(FATAL_ERROR "lmsworld wrote files after a usage error: ${written}")
+    endif()
+elseif(MODE STREQUAL "regen")
+    string(REGEX REPLACE "^regen_" "" base ${NAME})
+    generate(${dir}/${base})
+    set(failed "")
+    foreach(ext lms pairs tum)
+        same(${dir}/${base}.${ext} ${SHIPPED_DIR}/${base}.${ext} ok)
+        if(NOT ok)
+            string(APPEND failed " ${base}.${ext}")
+        endif()
+    endforeach()
+    if(NOT failed STREQUAL "")
+        message(FATAL_ERROR "regenerated files differ from the shipped ones:${failed}\n"
+            "(regenerated into ${dir})")
+    endif()
+else()
+    message(FATAL_ERROR "world_test.cmake: unknown MODE ${MODE}")
+endif()
