@@ -15,6 +15,9 @@ void ego_defaults(ego_params_t *params)
     tfit_defaults(&params->tfit);
     hist_defaults(&params->hist);
     itcp_defaults(&params->itcp);
+    params->use_coarse = true;
+    coarse_defaults(&params->coarse);
+    params->coarse_window_first = FX_Q16_16_C(4.0);
     params->max_rotation_bins = (uint16_t)(HIST_BINS / 4u); /* 45 deg */
     params->merge_bins = (uint16_t)(HIST_BINS / 60u);       /* 3 deg */
     params->min_correlation = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 3);
@@ -147,7 +150,16 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
         for (uint8_t k = 0u; k < n; k++) {
             /* The paper's stages: translation with the rotation held, then
              * everything. */
-            const ego_pose_t start = {rotation[k], predicted.x, predicted.y};
+            ego_pose_t start = {rotation[k], predicted.x, predicted.y};
+            if (params->use_coarse) {
+                coarse_params_t cp = params->coarse;
+                if (state->motion_dt_us == 0u) {
+                    cp.window = params->coarse_window_first; /* no prediction yet */
+                }
+                const ego_pose_t centre = start;
+                uint64_t score = 0u;
+                coarse_search(last, current, &centre, &cp, &start, &score);
+            }
             itcp_result_t held;
             itcp_result_t r;
             itcp_status_t st = itcp_register(last, current, main_direction, &start, true,

@@ -7,9 +7,10 @@
  *  2. build the current scan's angle histogram (hist.h, HTAH by default)
  *     and correlate it with the last scan's: up to HIST_MAX_CANDIDATES
  *     rotation candidates, best first;
- *  3. for each candidate: ITCP with the rotation held (translation only,
- *     from the predicted translation, i.e. the last motion), then full
- *     ITCP (itcp.h); keep the candidate with the most inliers;
+ *  3. for each candidate: a bounded coarse search of the translation (and
+ *     a small rotation correction) around the predicted motion (the last
+ *     motion, coarse.h), ITCP with the rotation held (translation only),
+ *     then full ITCP (itcp.h); keep the candidate with the most inliers;
  *  4. the relative pose of this scan in the frame of the last, and the
  *     velocities pose / dT.
  * The prepared scans live in two slots of the caller's state that swap
@@ -30,6 +31,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "coarse.h"
 #include "ego_pose.h"
 #include "ego_scan.h"
 #include "hist.h"
@@ -50,6 +52,9 @@ typedef struct {
     tfit_params_t tfit;
     hist_params_t hist;
     itcp_params_t itcp;
+    bool use_coarse;             /* coarse translation search before ITCP; default on */
+    coarse_params_t coarse;      /* its window is centred on the prediction */
+    fx_q16_16_t coarse_window_first; /* window when there is no prediction yet, default 4 m */
     uint16_t max_rotation_bins;  /* correlation search, default 225 (45 deg) */
     uint16_t merge_bins;         /* candidates closer merge, default 15 (3 deg) */
     fx_q2_30_t min_correlation;  /* below: EGO_FLAG_LOW_CORRELATION, default 0.3 */

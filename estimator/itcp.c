@@ -259,6 +259,31 @@ static match_t find_match(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, bo
 }
 
 /* Matches every current point at pose; fills the group sums. */
+/* The middle bearing of a scan: the reference its bearings are compared
+ * to, so that they never wrap. */
+static fx_bam32_t middle_bearing(const ego_scan_t *l)
+{
+    return l->bearing[0] + (l->bearing[l->count - 1u] - l->bearing[0]) / 2u;
+}
+
+bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
+                  uint64_t *dist_sq)
+{
+    static const itcp_params_t no_gate = {false, false, 0u, 0u, 0, 0, 0, 0u, 0, 0u, 0, 0, 0u};
+    if (last == NULL || dist_sq == NULL || last->count == 0u) {
+        return false;
+    }
+    matcher_t m;
+    m.last = last;
+    m.params = &no_gate;
+    m.ref = middle_bearing(last);
+    m.main_direction = 0u;
+    m.radius = radius;
+    const match_t best = find_match(&m, qx, qy, false, 0u);
+    *dist_sq = best.dist_sq;
+    return best.found;
+}
+
 void itcp_sums_clear(itcp_sums_t *sums)
 {
     memset(sums, 0, sizeof *sums);
@@ -457,7 +482,7 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
     matcher_t m;
     m.last = last;
     m.params = params;
-    m.ref = last->bearing[0] + (last->bearing[last->count - 1u] - last->bearing[0]) / 2u;
+    m.ref = middle_bearing(last);
     m.main_direction = main_direction & (FX_BAM32_HALF - 1u);
     m.radius = params->radius_start;
 

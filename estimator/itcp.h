@@ -109,6 +109,12 @@ void itcp_sums_add(itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y
  * and solves the translation only. No pairs: *pose is left alone. */
 void itcp_solve(const itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pose_t *pose);
 
+/* Squared distance (Q32.32) from (qx, qy) to the nearest surface of last
+ * (segment, or a lone point) within radius, found through the scan order
+ * like the matches: false when there is none. For the coarse search. */
+bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
+                  uint64_t *dist_sq);
+
 /* Registers current against last from *initial. main_direction is the
  * dominant line direction in the last scan's frame (hist_main_direction). */
 itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,

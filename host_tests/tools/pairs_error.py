@@ -2,11 +2,13 @@
 """Compare `lmsego replay` CSV with a ground-truth pairs file (lmsworld).
 
 usage: pairs_error.py TRUTH.pairs REPLAY.csv [--exclude-flags MASK] [--fail-m 0.10 --fail-deg 1.0]
+                     [--max-failed N] [--max-rot-mean DEG] [--max-trans-mean M]
 
 Prints, over the pairs present in both: translation error (along = x of the
 truth's frame, across = y) and rotation error: mean, median, p95, max; and the
 failure count (translation error > fail-m or rotation error > fail-deg, or no
-answer). Exit 0. Standard library only.
+answer). With --max-* bounds it exits 1 when one is exceeded (ctest uses
+that), else 0. Standard library only.
 """
 import argparse
 import math
@@ -53,9 +55,13 @@ def main():
     ap.add_argument('truth')
     ap.add_argument('csv')
     ap.add_argument('--exclude-flags', type=lambda x: int(x, 0), default=0,
-                    help='leave pairs with any of these flags out of the translation figures')
+                    help='leave pairs with any of these flags out of the translation figures '
+                         'and the translation failures (2 = aperture, as the paper does)')
     ap.add_argument('--fail-m', type=float, default=0.10)
     ap.add_argument('--fail-deg', type=float, default=1.0)
+    ap.add_argument('--max-failed', type=int)
+    ap.add_argument('--max-rot-mean', type=float)
+    ap.add_argument('--max-trans-mean', type=float)
     a = ap.parse_args()
     truth = read_truth(a.truth)
     est = read_csv(a.csv)
@@ -69,19 +75,30 @@ def main():
         r = abs(math.degrees(math.remainder(et - tt, 2 * math.pi)))
         rot.append(r)
         t = math.hypot(ex - tx, ey - ty)
-        if t > a.fail_m or r > a.fail_deg:
+        excluded = bool(flags & a.exclude_flags)
+        if r > a.fail_deg or (t > a.fail_m and not excluded):
             fails += 1
-        if flags & a.exclude_flags:
+        if excluded:
             continue
         trans.append(t)
         along.append(abs(ex - tx))
         across.append(abs(ey - ty))
-    print('pairs %d  failed %d (%.1f %%)' % (len(truth), fails, 100.0 * fails / max(1, len(truth))))
+    print('pairs %d  failed %d (%.1f %%)  translation excluded %d' % (
+        len(truth), fails, 100.0 * fails / max(1, len(truth)), len(rot) - len(trans)))
     print('rotation deg   ' + stats(rot))
     print('translation m  ' + stats(trans))
     print('along m        ' + stats(along))
     print('across m       ' + stats(across))
-    return 0
+    broken = []
+    if a.max_failed is not None and fails > a.max_failed:
+        broken.append('failed %d > %d' % (fails, a.max_failed))
+    if a.max_rot_mean is not None and (not rot or statistics.fmean(rot) > a.max_rot_mean):
+        broken.append('rotation mean above %g deg' % a.max_rot_mean)
+    if a.max_trans_mean is not None and (not trans or statistics.fmean(trans) > a.max_trans_mean):
+        broken.append('translation mean above %g m' % a.max_trans_mean)
+    for b in broken:
+        print('BOUND EXCEEDED: ' + b)
+    return 1 if broken else 0
 
 
 if __name__ == '__main__':

@@ -1,0 +1,19 @@
+# cmake -P script: lmsego replay STREAM (with EXTRA options) -> CSV, then
+# pairs_error.py against TRUTH with the bounds in BOUNDS (a ;-list of its
+# --max-* options). Fails when the replay fails or a bound is exceeded.
+foreach(var LMSEGO PYTHON SCRIPT STREAM TRUTH OUT BOUNDS)
+    if(NOT DEFINED ${var})
+        message(FATAL_ERROR "replay_accuracy.cmake: ${var} is not set")
+    endif()
+endforeach()
+execute_process(COMMAND ${LMSEGO} replay ${EXTRA} ${STREAM}
+    OUTPUT_FILE ${OUT} ERROR_VARIABLE err RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "lmsego replay failed (${rc}): ${err}")
+endif()
+message("${err}")
+execute_process(COMMAND ${PYTHON} ${SCRIPT} ${TRUTH} ${OUT} --exclude-flags 2 ${BOUNDS}
+    RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "accuracy bounds exceeded")
+endif()
