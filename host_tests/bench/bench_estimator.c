@@ -1,0 +1,134 @@
+/* bench_estimator.c - cost of the estimator per scan on the host.
+ *
+ *   bench_estimator [--icp] [--mode HEX] [--once] STREAM
+ *
+ * Decodes every B0 scan of a recorded stream into memory first, then runs
+ * ego_process over them in order (scan k at k times the LMS mode's period),
+ * timing each call with clock_gettime(CLOCK_MONOTONIC). Prints the number
+ * of scans, the median and maximum time per scan, and the mean ITCP
+ * iterations. --icp runs plain ICP instead of ITCP; --once skips the timing
+ * summary (for callgrind: valgrind --tool=callgrind
+ * --toggle-collect=bench_process_all ... gives instructions per scan).
+ * Host-only.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "ego.h"
+#include "lms_framer.h"
+
+#define MAX_SCANS 2000u
+
+static lms_scan_t scans[MAX_SCANS];
+static double seconds[MAX_SCANS];
+static ego_state_t state;
+
+static size_t load(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL) {
+        (void)fprintf(stderr, "bench_estimator: cannot open '%s'\n", path);
+        exit(1);
+    }
+    static lms_framer_t framer;
+    lms_framer_init(&framer, LMS_FROM_SCANNER);
+    size_t n = 0u;
+    uint8_t chunk[4096];
+    size_t got;
+    int done = 0;
+    while (!done) {
+        got = fread(chunk, 1u, sizeof chunk, f);
+        done = got == 0u;
+        size_t off = 0u;
+        for (;;) {
+            size_t used = 0u;
+            const lms_framer_event_t ev = done ? lms_framer_flush(&framer)
+                                               : lms_framer_feed(&framer, chunk + off, got - off,
+                                                                 &used);
+            off += used;
+            if (ev == LMS_FRAMER_NEED_MORE) {
+                break;
+            }
+            size_t len = 0u;
+            const uint8_t *t = lms_framer_telegram(&framer, &len);
+            if (t != NULL && n < MAX_SCANS && lms_decode_scan(t, len, &scans[n]) == LMS_OK) {
+                n++;
+            }
+        }
+    }
+    (void)fclose(f);
+    return n;
+}
+
+static uint32_t period_us(uint16_t count)
+{
+    return (count == 361u || count == 201u) ? 26667u : (count == 401u ? 53333u : 13333u);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a;
+    const double y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Everything callgrind should count. */
+static unsigned long bench_process_all(const ego_params_t *p, size_t n, int timed)
+{
+    unsigned long iterations = 0u;
+    ego_reset(&state);
+    for (size_t k = 0u; k < n; k++) {
+        struct timespec t0;
+        struct timespec t1;
+        ego_output_t out;
+        if (timed) {
+            (void)clock_gettime(CLOCK_MONOTONIC, &t0);
+        }
+        (void)ego_process(&state, p, &scans[k], (uint32_t)k * period_us(scans[k].count), &out);
+        if (timed) {
+            (void)clock_gettime(CLOCK_MONOTONIC, &t1);
+            seconds[k] = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
+        }
+        iterations += out.iterations;
+    }
+    return iterations;
+}
+
+int main(int argc, char **argv)
+{
+    static ego_params_t params;
+    ego_defaults(&params);
+    int once = 0;
+    const char *path = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--icp") == 0) {
+            params.itcp.weighted = false;
+        } else if (strcmp(argv[i], "--once") == 0) {
+            once = 1;
+        } else if (strcmp(argv[i], "--mode") == 0 && i + 1 < argc) {
+            params.prep.meas_mode = (uint8_t)strtoul(argv[++i], NULL, 16);
+        } else {
+            path = argv[i];
+        }
+    }
+    if (path == NULL) {
+        (void)fprintf(stderr, "usage: bench_estimator [--icp] [--mode HEX] [--once] STREAM\n");
+        return 2;
+    }
+    const size_t n = load(path);
+    if (n < 2u) {
+        (void)fprintf(stderr, "bench_estimator: fewer than two scans in '%s'\n", path);
+        return 1;
+    }
+    const unsigned long iterations = bench_process_all(&params, n, !once);
+    (void)printf("scans=%zu values=%u mode=%s iterations_mean=%.2f\n", n, scans[0].count,
+                 params.itcp.weighted ? "ITCP" : "ICP", (double)iterations / (double)(n - 1u));
+    if (!once) {
+        qsort(seconds, n, sizeof seconds[0], cmp_double);
+        (void)printf("per scan: median %.3f ms  max %.3f ms\n", seconds[n / 2u] * 1e3,
+                     seconds[n - 1u] * 1e3);
+    }
+    return 0;
+}
