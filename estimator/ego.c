@@ -18,6 +18,8 @@ void ego_defaults(ego_params_t *params)
     params->use_coarse = true;
     coarse_defaults(&params->coarse);
     params->coarse_window_first = FX_Q16_16_C(4.0);
+    params->accept_fraction = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 6);
+    params->stop_fraction = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 8);
     params->max_rotation_bins = (uint16_t)(HIST_BINS / 4u); /* 45 deg */
     params->merge_bins = (uint16_t)(HIST_BINS / 60u);       /* 3 deg */
     params->min_correlation = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 3);
@@ -73,6 +75,30 @@ static void keep_prediction_along(ego_pose_t *pose, const ego_pose_t *predicted,
     const fx_q16_16_t along = fx_add_q16(fx_mul_q16_q30(ex, c), fx_mul_q16_q30(ey, s));
     pose->x = fx_add_q16(pose->x, fx_mul_q16_q30(along, c));
     pose->y = fx_add_q16(pose->y, fx_mul_q16_q30(along, s));
+}
+
+/* The paper's two ITCP stages from start: translation with the rotation
+ * held, then everything. */
+static itcp_status_t register_from(const ego_scan_t *last, const ego_scan_t *current,
+                                   fx_bam32_t main_direction, const ego_pose_t *start,
+                                   const ego_params_t *params, itcp_result_t *r)
+{
+    itcp_result_t held;
+    const itcp_status_t st =
+        itcp_register(last, current, main_direction, start, true, &params->itcp, &held);
+    const ego_pose_t second = (st == ITCP_OK) ? held.pose : *start;
+    return itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
+}
+
+/* Is a registration good enough to stop looking: converged with at least
+ * accept (or, for skipping the other rotation candidates, stop) of the
+ * current points as inliers. */
+static bool good_enough(const ego_params_t *params, itcp_status_t st, const itcp_result_t *r,
+                        const ego_scan_t *current, bool to_stop)
+{
+    const fx_q2_30_t fraction = to_stop ? params->stop_fraction : params->accept_fraction;
+    return st == ITCP_OK && r->converged &&
+           ((int64_t)r->inliers << 30) >= (int64_t)fraction * current->count;
 }
 
 /* Is a better than b: registered, more inliers, then a smaller residual. */
@@ -147,31 +173,39 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
         itcp_status_t best_status = ITCP_ERR_FEW_MATCHES;
         memset(&best, 0, sizeof best);
         uint8_t best_k = 0u;
-        for (uint8_t k = 0u; k < n; k++) {
-            /* The paper's stages: translation with the rotation held, then
-             * everything. */
-            ego_pose_t start = {rotation[k], predicted.x, predicted.y};
-            if (params->use_coarse) {
+        uint8_t tried = 0u;
+        for (uint8_t k = 0u; k < n && !good_enough(params, best_status, &best, current, true);
+             k++) {
+            itcp_result_t r;
+            const ego_pose_t start = {rotation[k], predicted.x, predicted.y};
+            itcp_status_t st = register_from(last, current, main_direction, &start, params, &r);
+            /* Cheap first: from the prediction. The coarse search only when
+             * that did not give a good match (or there is no prediction). */
+            if (params->use_coarse &&
+                (state->motion_dt_us == 0u || !good_enough(params, st, &r, current, false))) {
                 coarse_params_t cp = params->coarse;
                 if (state->motion_dt_us == 0u) {
                     cp.window = params->coarse_window_first; /* no prediction yet */
                 }
-                const ego_pose_t centre = start;
+                ego_pose_t found = start;
                 uint64_t score = 0u;
-                coarse_search(last, current, &centre, &cp, &start, &score);
+                coarse_search(last, current, &start, &cp, &found, &score);
+                itcp_result_t rc;
+                const itcp_status_t stc =
+                    register_from(last, current, main_direction, &found, params, &rc);
+                if (better(stc, &rc, st, &r)) {
+                    r = rc;
+                    st = stc;
+                }
             }
-            itcp_result_t held;
-            itcp_result_t r;
-            itcp_status_t st = itcp_register(last, current, main_direction, &start, true,
-                                             &params->itcp, &held);
-            const ego_pose_t second = (st == ITCP_OK) ? held.pose : start;
-            st = itcp_register(last, current, main_direction, &second, false, &params->itcp, &r);
+            tried++;
             if (better(st, &r, best_status, &best)) {
                 best = r;
                 best_status = st;
                 best_k = k;
             }
         }
+        n = tried;
         out->candidates = n;
         if (best_status == ITCP_OK) {
             matched = true;

@@ -7,10 +7,14 @@
  *  2. build the current scan's angle histogram (hist.h, HTAH by default)
  *     and correlate it with the last scan's: up to HIST_MAX_CANDIDATES
  *     rotation candidates, best first;
- *  3. for each candidate: a bounded coarse search of the translation (and
- *     a small rotation correction) around the predicted motion (the last
- *     motion, coarse.h), ITCP with the rotation held (translation only),
- *     then full ITCP (itcp.h); keep the candidate with the most inliers;
+ *  3. for each candidate, best first: ITCP with the rotation held
+ *     (translation only) from the predicted motion (the last motion), then
+ *     full ITCP (itcp.h); when that does not converge with accept_fraction
+ *     of the points as inliers, or there is no prediction yet, also a
+ *     bounded coarse search of the translation and a small rotation
+ *     correction (coarse.h) followed by the same ITCP. The candidate with
+ *     the most inliers wins; one with stop_fraction of the points as
+ *     inliers ends the search early;
  *  4. the relative pose of this scan in the frame of the last, and the
  *     velocities pose / dT.
  * The prepared scans live in two slots of the caller's state that swap
@@ -55,6 +59,11 @@ typedef struct {
     bool use_coarse;             /* coarse translation search before ITCP; default on */
     coarse_params_t coarse;      /* its window is centred on the prediction */
     fx_q16_16_t coarse_window_first; /* window when there is no prediction yet, default 4 m */
+    fx_q2_30_t accept_fraction;  /* ITCP from the prediction with at least this share of
+                                    the points as inliers (and converged) needs no coarse
+                                    search; default 0.6 */
+    fx_q2_30_t stop_fraction;    /* a candidate this good ends the candidate loop;
+                                    default 0.8 */
     uint16_t max_rotation_bins;  /* correlation search, default 225 (45 deg) */
     uint16_t merge_bins;         /* candidates closer merge, default 15 (3 deg) */
     fx_q2_30_t min_correlation;  /* below: EGO_FLAG_LOW_CORRELATION, default 0.3 */

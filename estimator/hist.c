@@ -208,23 +208,27 @@ fx_bam32_t hist_main_direction(const hist_t *h)
     return hist_bin_centre(best);
 }
 
-/* A histogram seen centred and scaled: a[i] = HIST_BINS * (bin[i] >>
- * shift) - sum, with shift chosen so that no scaled bin exceeds SCALED_MAX.
- * Then |a[i]| < 2^25 and every sum of HIST_BINS products is below 2^60.
- * The values are computed on the fly: no scan-sized copy. */
+/* A histogram scaled down: s[i] = bin[i] >> shift, with shift chosen so
+ * that no s[i] exceeds SCALED_MAX, and sum = sum of s[i]. The correlation
+ * of eq. 5 needs the centred values a[i] = HIST_BINS s[i] - sum; because
+ * sum(a) = 0 the centring comes out of the sums:
+ *   sum_i a[i] b[i + j] = M (M sum_i s[i] t[i + j] - S T)
+ *   sum_i a[i]^2        = M (M sum_i s[i]^2 - S^2)
+ * (M = HIST_BINS), so each shift costs one plain dot product of the scaled
+ * bins: products < 2^30, sums < 2^40, M times them < 2^50. */
 typedef struct {
     const uint32_t *bin;
     unsigned shift;
     int64_t sum;
-} centred_t;
+} scaled_t;
 
-static centred_t centre(const hist_t *h)
+static scaled_t scale(const hist_t *h)
 {
     uint32_t max = 0u;
     for (uint16_t b = 0u; b < HIST_BINS; b++) {
         max = (h->bin[b] > max) ? h->bin[b] : max;
     }
-    centred_t c = {h->bin, 0u, 0};
+    scaled_t c = {h->bin, 0u, 0};
     while ((max >> c.shift) > SCALED_MAX) {
         c.shift++;
     }
@@ -234,21 +238,16 @@ static centred_t centre(const hist_t *h)
     return c;
 }
 
-static int64_t centred_at(const centred_t *c, uint32_t i)
+/* M sum_i s[i] t[i + shift] - S T: the centred dot product over M. */
+static int64_t dot_shifted(const scaled_t *a, const scaled_t *b, int32_t shift)
 {
-    return (int64_t)HIST_BINS * (int64_t)(c->bin[i] >> c->shift) - c->sum;
-}
-
-/* sum_i a[i] b[i + shift], indices modulo HIST_BINS. */
-static int64_t dot_shifted(const centred_t *a, const centred_t *b, int32_t shift)
-{
-    int64_t sum = 0;
+    uint64_t dot = 0u;
     uint32_t k = (uint32_t)((shift % (int32_t)HIST_BINS + (int32_t)HIST_BINS) % (int32_t)HIST_BINS);
     for (uint32_t i = 0u; i < HIST_BINS; i++) {
-        sum += centred_at(a, i) * centred_at(b, k);
+        dot += (uint64_t)(a->bin[i] >> a->shift) * (b->bin[k] >> b->shift);
         k = (k + 1u == HIST_BINS) ? 0u : k + 1u;
     }
-    return sum;
+    return (int64_t)HIST_BINS * (int64_t)dot - a->sum * b->sum;
 }
 
 /* num / den as Q2.30, |num| <= den (Cauchy-Schwarz), den > 0. */
@@ -319,8 +318,8 @@ void hist_correlate(const hist_t *current, const hist_t *last, uint16_t max_shif
                     uint16_t merge_bins, hist_match_t *match)
 {
     memset(match, 0, sizeof *match);
-    const centred_t a = centre(current);
-    const centred_t b = centre(last);
+    const scaled_t a = scale(current);
+    const scaled_t b = scale(last);
     const int64_t na = dot_shifted(&a, &a, 0);
     const int64_t nb = dot_shifted(&b, &b, 0);
     if (na == 0 || nb == 0) {

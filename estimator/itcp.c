@@ -78,12 +78,13 @@ static uint64_t closest_on_segment(const ego_scan_t *l, uint16_t j, fx_q16_16_t 
     const int64_t dy = (int64_t)l->y[j + 1u] - l->y[j];
     int64_t num = ((int64_t)qx - l->x[j]) * dx + ((int64_t)qy - l->y[j]) * dy;
     int64_t den = dx * dx + dy * dy;
-    const int64_t length = fx_sqrt_u64((uint64_t)den); /* Q16.16 */
     fx_q2_30_t t = 0;
     *beyond = 0;
     if (num <= 0 || den == 0) {
+        const int64_t length = fx_sqrt_u64((uint64_t)den); /* Q16.16; only when clamped */
         *beyond = (length > 0) ? -num / length : 0;
     } else if (num >= den) {
+        const int64_t length = fx_sqrt_u64((uint64_t)den);
         t = FX_Q2_30_ONE;
         *beyond = (num - den) / length;
     } else {
@@ -232,7 +233,11 @@ static match_t find_match(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, bo
     const int64_t ox = (int64_t)qx - l->origin_x;
     const int64_t oy = (int64_t)qy - l->origin_y;
     const int64_t rel_q = fx_bam32_diff(fx_atan2(oy, ox), m->ref);
-    const int64_t r_q = fx_sqrt_u64((uint64_t)(ox * ox + oy * oy));
+    /* A lower bound of the distance from the scanner (no square root): a
+     * smaller r only widens the cone, which stays safe. */
+    const int64_t ax = (ox < 0) ? -ox : ox;
+    const int64_t ay = (oy < 0) ? -oy : oy;
+    const int64_t r_q = (ax > ay) ? ax : ay;
     /* Half-angle of the cone the search disc subtends: asin(radius / r)
      * <= (pi / 2) (radius / r), i.e. (radius / r) quarter turns. */
     int64_t cone = FX_BAM32_HALF;
