@@ -238,15 +238,26 @@ static scaled_t scale(const hist_t *h)
     return c;
 }
 
-/* M sum_i s[i] t[i + shift] - S T: the centred dot product over M. */
-static int64_t dot_shifted(const scaled_t *a, const scaled_t *b, int32_t shift)
+/* sum of (a[i] >> sa) (b[k + i] >> sb) for i < n: the inner loop, with no
+ * wrap-around inside it. */
+static uint64_t dot_run(const uint32_t *a, unsigned sa, const uint32_t *b, unsigned sb, uint32_t n)
 {
     uint64_t dot = 0u;
-    uint32_t k = (uint32_t)((shift % (int32_t)HIST_BINS + (int32_t)HIST_BINS) % (int32_t)HIST_BINS);
-    for (uint32_t i = 0u; i < HIST_BINS; i++) {
-        dot += (uint64_t)(a->bin[i] >> a->shift) * (b->bin[k] >> b->shift);
-        k = (k + 1u == HIST_BINS) ? 0u : k + 1u;
+    for (uint32_t i = 0u; i < n; i++) {
+        dot += (uint64_t)(a[i] >> sa) * (b[i] >> sb);
     }
+    return dot;
+}
+
+/* M sum_i s[i] t[i + shift] - S T (indices modulo M): the centred dot
+ * product over M, as two straight runs. */
+static int64_t dot_shifted(const scaled_t *a, const scaled_t *b, int32_t shift)
+{
+    const uint32_t k =
+        (uint32_t)((shift % (int32_t)HIST_BINS + (int32_t)HIST_BINS) % (int32_t)HIST_BINS);
+    const uint32_t first = HIST_BINS - k; /* i = 0 .. first - 1 meet b[k .. M - 1] */
+    const uint64_t dot = dot_run(a->bin, a->shift, &b->bin[k], b->shift, first) +
+                         dot_run(&a->bin[first], a->shift, b->bin, b->shift, k);
     return (int64_t)HIST_BINS * (int64_t)dot - a->sum * b->sum;
 }
 

@@ -75,7 +75,8 @@ static int cmp_double(const void *a, const void *b)
 }
 
 /* Everything callgrind should count. */
-static unsigned long bench_process_all(const ego_params_t *p, size_t n, int timed)
+__attribute__((noinline)) static unsigned long bench_process_all(const ego_params_t *p, size_t n,
+                                                                 int timed)
 {
     unsigned long iterations = 0u;
     ego_reset(&state);
