@@ -229,9 +229,10 @@ lms_status_t lms_encode_scan(uint8_t *out, size_t cap, uint8_t address, const lm
     /* The payload is written in place after the header: code, count word,
      * values, optional indices; lms_telegram_write then adds the rest. To
      * avoid a second scan-sized buffer, build the telegram directly. */
-    uint16_t count_word = (uint16_t)(scan->count | ((unsigned)scan->unit << 14));
+    uint16_t count_word = (uint16_t)(scan->count | ((unsigned)scan->unit << 14) |
+                                     ((unsigned)scan->partial_index << 11));
     if (scan->is_partial) {
-        count_word = (uint16_t)(count_word | 0x2000u | ((unsigned)scan->partial_index << 11));
+        count_word = (uint16_t)(count_word | 0x2000u);
     }
     out[0] = LMS_STX;
     out[1] = address;

@@ -78,8 +78,9 @@ bool lms_variant_is_legal(uint16_t angle_deg, uint16_t resolution_cdeg);
 /* --- Scanner side ------------------------------------------------------ */
 
 /* A B0 telegram from a scan: count word from count, unit, is_partial and
- * (only when is_partial) partial_index; real-time indices when
- * has_indices; then status. written may be NULL. address
+ * partial_index (as given, so that what lms_decode_scan read comes back
+ * bit for bit; only the reserved bit 10 is always 0); real-time indices
+ * when has_indices; then status. written may be NULL. address
  * must have bit 7 set. LMS_ERR_ARG for count > LMS_SCAN_MAX_VALUES,
  * partial_index > 3 or cap < 2 * count + 10 (+ 2). */
 lms_status_t lms_encode_scan(uint8_t *out, size_t cap, uint8_t address, const lms_scan_t *scan,
