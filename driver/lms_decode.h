@@ -47,16 +47,16 @@ lms_status_byte_t lms_status_byte_decode(uint8_t raw);
 /* --- B0: measured values --------------------------------------------- */
 
 typedef struct {
-    uint8_t address;
-    uint8_t status;        /* status byte */
     lms_unit_t unit;       /* count-word bits 14-15 (reserved codes are an error) */
     uint16_t count;        /* N, count-word bits 0-9 */
+    uint16_t values[LMS_SCAN_MAX_VALUES]; /* raw value words, lms_value_decode */
+    uint8_t address;
+    uint8_t status;        /* status byte */
     bool is_partial;       /* count-word bit 13 */
     uint8_t partial_index; /* bits 11-12: offset of +0, 0.25, 0.5, 0.75 deg */
     bool has_indices;      /* L = 2N + 6: real-time indices present */
     uint8_t scan_index;    /* real-time scan index (mod 256) */
     uint8_t telegram_index;
-    uint16_t values[LMS_SCAN_MAX_VALUES]; /* raw value words, lms_value_decode */
 } lms_scan_t;
 
 /* LMS_ERR_SIZE when L is neither 2N + 4 nor 2N + 6 or N exceeds

@@ -36,10 +36,9 @@ static size_t load(const char *path)
     lms_framer_init(&framer, LMS_FROM_SCANNER);
     size_t n = 0u;
     uint8_t chunk[4096];
-    size_t got;
     int done = 0;
     while (!done) {
-        got = fread(chunk, 1u, sizeof chunk, f);
+        const size_t got = fread(chunk, 1u, sizeof chunk, f);
         done = got == 0u;
         size_t off = 0u;
         for (;;) {
