@@ -36,9 +36,12 @@ typedef uint32_t fx_bam32_t;
 #define FX_BAM32_HALF 0x80000000u    /* 180 deg */
 
 /* Metres (literal, may be fractional) to Q16.16, rounded: for constants
- * only; the argument is evaluated more than once and must be a literal or
- * integer constant expression (it may be a floating literal: the result is
- * an integer constant, so no floating point reaches the target code). */
+ * only; the argument is evaluated more than once and must be a literal.
+ * The result is an arithmetic constant expression that the compiler folds
+ * to an integer (no floating point reaches the target code: the Cortex-M
+ * portability check would fail on a soft-float call), usable in
+ * initializers and code but not in _Static_assert, case labels or array
+ * sizes under -Wpedantic. */
 #define FX_Q16_16_C(x) ((fx_q16_16_t)((x) >= 0 ? (x) * 65536.0 + 0.5 : (x) * 65536.0 - 0.5))
 
 /* Binary angle of a literal number of degrees, rounded (constants only). */

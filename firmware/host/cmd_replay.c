@@ -1,5 +1,5 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
- * [--mode HEX]`: runs the firmware loop (firmware/ego_loop.h) over a
+ * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH]`: runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
  *
@@ -108,6 +108,21 @@ static int parse_mode(const char *text, uint8_t *mode)
     return 0;
 }
 
+static int parse_hist(const char *text, hist_kind_t *kind)
+{
+    static const struct {
+        const char *name;
+        hist_kind_t kind;
+    } kinds[] = {{"AH", HIST_AH}, {"LAH", HIST_LAH}, {"HAH", HIST_HAH}, {"HTAH", HIST_HTAH}};
+    for (size_t k = 0u; k < sizeof kinds / sizeof kinds[0]; k++) {
+        if (strcmp(text, kinds[k].name) == 0) {
+            *kind = kinds[k].kind;
+            return 0;
+        }
+    }
+    return -1;
+}
+
 int cmd_replay(const cli_command_t *self, int argc, char **argv)
 {
     static ego_loop_config_t config;
@@ -131,6 +146,13 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         } else if (strcmp(arg, "--mount") == 0) {
             if (value == NULL || parse_mount(value, &config.ego.prep) != 0) {
                 return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
+            }
+            i++;
+        } else if (strcmp(arg, "--icp") == 0) {
+            config.ego.itcp.weighted = false; /* plain ICP, for comparison */
+        } else if (strcmp(arg, "--hist") == 0) {
+            if (value == NULL || parse_hist(value, &config.ego.hist.kind) != 0) {
+                return cli_usage_error(self, "invalid --hist", value, "AH, LAH, HAH or HTAH");
             }
             i++;
         } else if (strcmp(arg, "--mode") == 0) {

@@ -16,7 +16,7 @@
 static const cli_command_t commands[] = {
     {"stats", "FILE", "count telegrams, scans and framing errors of a recorded stream", cmd_stats},
     {"scans", "[--mode HEX] FILE", "print every decoded B0 scan, one line per scan", cmd_scans},
-    {"replay", "[--period S] [--mount X,Y,DEG] [--mode HEX] FILE",
+    {"replay", "[--period S] [--mount X,Y,DEG] [--mode HEX] [--icp] [--hist KIND] FILE",
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
 };
 
@@ -32,9 +32,8 @@ static void print_usage(void)
                "\n"
                "commands:");
     for (size_t i = 0u; i < COMMAND_COUNT; i++) {
-        char left[48];
-        (void)snprintf(left, sizeof left, "%s %s", commands[i].name, commands[i].synopsis);
-        (void)printf("  %-24s %s\n", left, commands[i].summary);
+        (void)printf("  %s %s\n      %s\n", commands[i].name, commands[i].synopsis,
+                     commands[i].summary);
     }
     (void)puts("\n"
                "options:\n"

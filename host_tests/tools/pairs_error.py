@@ -12,6 +12,7 @@ that), else 0. Standard library only.
 """
 import argparse
 import math
+import signal
 import statistics
 import sys
 
@@ -46,11 +47,13 @@ def stats(values):
         return 'n=0'
     s = sorted(values)
     p95 = s[min(len(s) - 1, int(math.ceil(0.95 * len(s))) - 1)]
-    return 'mean %.6f median %.6f p95 %.6f max %.6f' % (
-        statistics.fmean(s), statistics.median(s), p95, s[-1])
+    sd = statistics.pstdev(s) if len(s) > 1 else 0.0
+    return 'mean %.6f std %.6f median %.6f p95 %.6f max %.6f' % (
+        statistics.fmean(s), sd, statistics.median(s), p95, s[-1])
 
 
 def main():
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # quiet when piped into head
     ap = argparse.ArgumentParser()
     ap.add_argument('truth')
     ap.add_argument('csv')

@@ -15,8 +15,8 @@
  * also prints its worst case as an INFO line (docs/fixed-point.md).
  *
  * Default run: dense samples (every 2^12-th angle, all angles near the
- * quarter points, 2^20 atan2 directions at 6 magnitudes plus small and
- * edge vectors, every v < 2^24), a few seconds under ASan. Exhaustive
+ * quarter points, 2^18 atan2 directions at 6 magnitudes plus small, edge
+ * and random vectors, every v < 2^24), about 1 s under ASan. Exhaustive
  * mode, FX_MATH_EXHAUSTIVE=1 in the environment or --exhaustive on the
  * command line, adds: all 2^32 angles, 2^20 directions x 63 magnitudes and
  * 2^26 random atan2 pairs, every v < 2^32 and k^2 + {-1, 0, 1, k, k + 1}
