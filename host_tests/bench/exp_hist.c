@@ -78,14 +78,30 @@ static void load_truth(const char *path)
     }
     char line[256];
     while (fgets(line, sizeof line, f) != NULL) {
-        unsigned i;
-        unsigned j;
-        double dx;
-        double dy;
-        double dt;
-        if (line[0] != '#' && sscanf(line, "%u %u %lf %lf %lf", &i, &j, &dx, &dy, &dt) == 5 &&
-            j < MAX_SCANS) {
-            truth_theta[j] = dt;
+        if (line[0] == '#') {
+            continue;
+        }
+        /* "i j dx dy dtheta": only j and dtheta are needed. */
+        char *p = line;
+        char *end = NULL;
+        (void)strtoul(p, &end, 10);
+        if (end == p) {
+            continue;
+        }
+        p = end;
+        const unsigned long j = strtoul(p, &end, 10);
+        if (end == p || j >= MAX_SCANS) {
+            continue;
+        }
+        double v[3];
+        int ok = 1;
+        for (int k = 0; k < 3 && ok; k++) {
+            p = end;
+            v[k] = strtod(p, &end);
+            ok = end != p;
+        }
+        if (ok) {
+            truth_theta[j] = v[2];
         }
     }
     (void)fclose(f);
