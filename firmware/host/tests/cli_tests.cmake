@@ -100,3 +100,27 @@ foreach(rec room_181_mm room_361_cm_faults)
         OPTIONS -DSTDIN_FILE=${LMSEGO_RECORDINGS}/${rec}.lms
                 -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans -DEXPECT_STDERR_EMPTY=ON)
 endforeach()
+
+# --- replay ----------------------------------------------------------------
+set(LMSEGO_SEQ ${LMSEGO_CLI_DATA}/../../../host_tests/data/sequences)
+lmsego_cli_test(replay_help ARGS replay --help
+    OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego\ replay -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(replay_header ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS "-DSTDOUT_REGEX=^scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches\n1,0\\.026667,-2\\.4"
+            -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=scans=2\ lines=1)
+lmsego_cli_test(replay_stdin ARGS replay - --period 0.1
+    OPTIONS -DSTDIN_FILE=${LMSEGO_SEQ}/table2_361_cm.lms -DSTDOUT_REGEX=\n1,0\\.100000,
+            -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(replay_icp_hist ARGS replay --icp --hist HAH ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DSTDOUT_REGEX=\n1, -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(replay_missing_file ARGS replay ${LMSEGO_CLI_MISSING}
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            -DSTDERR_REGEX=no-such-file\\.lms)
+lmsego_cli_test(replay_bad_period ARGS replay --period -1 ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=period)
+lmsego_cli_test(replay_bad_mount ARGS replay --mount 1,2 ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=mount)
+lmsego_cli_test(replay_bad_hist ARGS replay --hist XYZ ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=XYZ)
+lmsego_cli_test(replay_garbage ARGS replay ${LMSEGO_CLI_DATA}/vectors.hex
+    OPTIONS -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=scans=0)
