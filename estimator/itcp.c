@@ -19,6 +19,7 @@ void itcp_defaults(itcp_params_t *params)
     params->main_tolerance = FX_BAM32_DEG_C(10.0);
     params->radius_start = FX_Q16_16_C(0.6);
     params->radius_min = FX_Q16_16_C(0.15);
+    params->radius_fine = FX_Q16_16_C(0.05);
     params->radius_shrink = (fx_q2_30_t)(FX_Q2_30_ONE / 4 * 3); /* 0.75 */
     params->max_iterations = 30u;
     params->converge_translation = FX_Q16_16_C(0.0001);
@@ -274,7 +275,8 @@ static fx_bam32_t middle_bearing(const ego_scan_t *l)
 bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
                   uint64_t *dist_sq)
 {
-    static const itcp_params_t no_gate = {false, false, 0u, 0u, 0, 0, 0, 0u, 0, 0u, 0, 0, 0u};
+    /* Only the gate switch is read by the search: everything else zero. */
+    static const itcp_params_t no_gate;
     if (last == NULL || dist_sq == NULL || last->count == 0u) {
         return false;
     }
@@ -469,6 +471,65 @@ static bool accelerate(ego_pose_t *pose, const step_t *last_step, const step_t *
     return true;
 }
 
+/* Iterations of match + closed form from *pose, the search radius
+ * shrinking from radius_from to radius_floor; at most max_iterations. */
+static itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp_params_t *params,
+                             bool hold_rotation, fx_q16_16_t radius_from,
+                             fx_q16_16_t radius_floor, ego_pose_t *pose_io, pass_t *pass,
+                             uint16_t *iterations, bool *converged)
+{
+    ego_pose_t pose = *pose_io;
+    m->radius = radius_from;
+    step_t last_step = {{0, 0, 0}};
+    bool have_last_step = false;
+    /* After a jump, a step back means it overshot: no more jumps then, so
+     * that jumping and creeping back cannot cycle. */
+    bool may_accelerate = true;
+    bool jumped = false;
+    step_t jump = {{0, 0, 0}};
+    itcp_status_t status = ITCP_OK;
+    *converged = false;
+    for (uint8_t it = 0u; it < params->max_iterations; it++) {
+        match_all(m, current, &pose, pass);
+        if (pass->sums.group[0].n + pass->sums.group[1].n < params->min_matches) {
+            status = ITCP_ERR_FEW_MATCHES;
+            break;
+        }
+        const ego_pose_t before = pose;
+        itcp_solve(&pass->sums, params->weighted, hold_rotation, &pose);
+        (*iterations)++;
+        const bool at_min = m->radius <= radius_floor;
+        const bool still =
+            abs64((int64_t)pose.x - before.x) < params->converge_translation &&
+            abs64((int64_t)pose.y - before.y) < params->converge_translation &&
+            abs64(fx_bam32_diff(pose.theta, before.theta)) < (int64_t)params->converge_rotation;
+        if (still && at_min) {
+            *converged = true;
+            break;
+        }
+        /* Accelerate only once the match set has settled (smallest radius). */
+        const step_t step = pose_step(&before, &pose);
+        if (jumped && step_dot(&step, &jump) < 0) {
+            may_accelerate = false;
+        }
+        jumped = false;
+        const ego_pose_t stepped = pose;
+        if (may_accelerate && at_min && have_last_step &&
+            accelerate(&pose, &last_step, &step, pose.theta - before.theta)) {
+            jumped = true;
+            jump = pose_step(&stepped, &pose);
+            have_last_step = false;
+        } else {
+            last_step = step;
+            have_last_step = at_min;
+        }
+        const fx_q16_16_t shrunk = fx_mul_q16_q30(m->radius, params->radius_shrink);
+        m->radius = (shrunk > radius_floor) ? shrunk : radius_floor;
+    }
+    *pose_io = pose;
+    return status;
+}
+
 itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
                             fx_bam32_t main_direction, const ego_pose_t *initial,
                             bool hold_rotation, const itcp_params_t *params,
@@ -490,54 +551,32 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
     m.ref = middle_bearing(last);
     m.main_direction = main_direction & (FX_BAM32_HALF - 1u);
     m.radius = params->radius_start;
-
     ego_pose_t pose = *initial;
     pass_t pass;
-    step_t last_step = {{0, 0, 0}};
-    bool have_last_step = false;
-    /* After a jump, a step back means it overshot: no more jumps then, so
-     * that jumping and creeping back cannot cycle. */
-    bool may_accelerate = true;
-    bool jumped = false;
-    step_t jump = {{0, 0, 0}};
-    itcp_status_t status = ITCP_OK;
-    for (uint8_t it = 0u; it < params->max_iterations; it++) {
-        match_all(&m, current, &pose, &pass);
-        if (pass.sums.group[0].n + pass.sums.group[1].n < params->min_matches) {
-            status = ITCP_ERR_FEW_MATCHES;
-            break;
+    uint16_t iterations = 0u;
+    bool converged = false;
+    itcp_status_t status = iterate(&m, current, params, hold_rotation, params->radius_start,
+                                   params->radius_min, &pose, &pass, &iterations, &converged);
+    if (status == ITCP_OK && converged && params->radius_fine < params->radius_min) {
+        /* Converged among the nearby surfaces: now only the close matches.
+         * Wrong partners within radius_min pull every pose towards no
+         * motion (4-15 mm per scan on the 1-degree campus drive); kept only
+         * if it converges too and keeps at least half of the matches. */
+        const int64_t coarse_matches = pass.sums.group[0].n + pass.sums.group[1].n;
+        ego_pose_t fine = pose;
+        uint16_t fine_iterations = 0u;
+        bool fine_converged = false;
+        const itcp_status_t fine_status =
+            iterate(&m, current, params, hold_rotation, params->radius_fine, params->radius_fine,
+                    &fine, &pass, &fine_iterations, &fine_converged);
+        iterations = (uint16_t)(iterations + fine_iterations);
+        if (fine_status == ITCP_OK && fine_converged &&
+            2 * (pass.sums.group[0].n + pass.sums.group[1].n) >= coarse_matches) {
+            pose = fine;
         }
-        const ego_pose_t before = pose;
-        itcp_solve(&pass.sums, params->weighted, hold_rotation, &pose);
-        result->iterations = (uint8_t)(it + 1u);
-        const bool at_min = m.radius <= params->radius_min;
-        const bool still =
-            abs64((int64_t)pose.x - before.x) < params->converge_translation &&
-            abs64((int64_t)pose.y - before.y) < params->converge_translation &&
-            abs64(fx_bam32_diff(pose.theta, before.theta)) < (int64_t)params->converge_rotation;
-        if (still && at_min) {
-            result->converged = true;
-            break;
-        }
-        /* Accelerate only once the match set has settled (smallest radius). */
-        const step_t step = pose_step(&before, &pose);
-        if (jumped && step_dot(&step, &jump) < 0) {
-            may_accelerate = false;
-        }
-        jumped = false;
-        const ego_pose_t stepped = pose;
-        if (may_accelerate && at_min && have_last_step &&
-            accelerate(&pose, &last_step, &step, pose.theta - before.theta)) {
-            jumped = true;
-            jump = pose_step(&stepped, &pose);
-            have_last_step = false;
-        } else {
-            last_step = step;
-            have_last_step = at_min;
-        }
-        const fx_q16_16_t shrunk = fx_mul_q16_q30(m.radius, params->radius_shrink);
-        m.radius = (shrunk > params->radius_min) ? shrunk : params->radius_min;
     }
+    result->iterations = (uint8_t)((iterations > 255u) ? 255u : iterations);
+    result->converged = converged;
     result->pose = pose;
 
     /* Statistics at the final pose, with the smallest radius. */

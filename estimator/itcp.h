@@ -31,7 +31,10 @@
  *
  * Iterations stop when the pose changes by less than converge_translation
  * and converge_rotation with the radius at its minimum, or after
- * max_iterations. hold_rotation keeps theta at the initial value (the
+ * max_iterations. A converged result is refined by a second run with the
+ * radius fixed at radius_fine (beyond the paper: within radius_min, wrong
+ * partners on nearby surfaces bias the pose towards no motion); it is kept
+ * when it converges with at least half of the matches. hold_rotation keeps theta at the initial value (the
  * paper's translation-only first stage). Aperture: n_non / n_main below
  * aperture_ratio (a corridor: translation along the main direction is not
  * observable).
@@ -58,6 +61,9 @@ typedef struct {
     fx_bam32_t main_tolerance;       /* default 10 deg */
     fx_q16_16_t radius_start;        /* default 0.6 m */
     fx_q16_16_t radius_min;          /* default 0.15 m */
+    fx_q16_16_t radius_fine;         /* after converging: a second run with only
+                                        matches this close; default 0.05 m
+                                        (>= radius_min: no second run) */
     fx_q2_30_t radius_shrink;        /* per iteration, default 0.75 */
     uint8_t max_iterations;          /* default 30 */
     fx_q16_16_t converge_translation;/* default 0.0001 m */
@@ -71,7 +77,7 @@ void itcp_defaults(itcp_params_t *params);
 
 typedef struct {
     ego_pose_t pose;
-    uint8_t iterations;      /* closed-form solutions computed */
+    uint8_t iterations;      /* closed-form solutions computed, both runs */
     bool converged;
     bool aperture;
     uint16_t matches;        /* in the last iteration */

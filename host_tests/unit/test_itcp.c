@@ -145,10 +145,9 @@ static void test_itcp_registers_known_motions(void)
     for (unsigned k = 0u; k < sizeof motions / sizeof motions[0]; k++) {
         /* Started at the true rotation plus 0.3 deg (the histogram's
          * accuracy) and zero translation. With 1 cm range steps the errors
-         * seen are up to 3 mm and 0.06 deg (the larger turns uncover
-         * surfaces the last scan did not see). */
-        register_room(&motions[k], true, 0.3, 0.01, 0.1);
-        register_room(&motions[k], false, 0.3, 0.01, 0.1);
+         * seen are below 1 mm and 0.016 deg. */
+        register_room(&motions[k], true, 0.3, 0.002, 0.03);
+        register_room(&motions[k], false, 0.3, 0.002, 0.03);
     }
 }
 
@@ -184,13 +183,11 @@ static void test_itcp_flags_the_corridor_aperture(void)
     TEST_MESSAGE(msg);
     TEST_ASSERT_TRUE_MESSAGE(r.aperture, msg);
     TEST_ASSERT_TRUE_MESSAGE(r.n_non_main * 5u < r.n_main, msg);
-    /* Across the corridor the position is observable, roughly: in a 3 m
-     * corridor only about 8 m of each wall is seen at more than the 10 deg
-     * occlusion angle, so the heading rests on a short baseline (seen:
-     * 0.3 deg and 26 mm off). The pipeline (ego.c) keeps the predicted
-     * motion along the corridor. */
-    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(r.pose.y) - 0.1) < 0.05, msg);
-    TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(r.pose.theta) - 0.02) < 0.01, msg);
+    /* Across the corridor the position and the heading are observable
+     * (seen: 0.4 mm and 0.002 deg off); along it they are not, and the
+     * pipeline (ego.c) keeps the predicted motion there. */
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(r.pose.y) - 0.1) < 0.005, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(r.pose.theta) - 0.02) < 0.0005, msg);
 }
 
 static void test_itcp_fails_cleanly_without_points(void)
