@@ -17,49 +17,13 @@
 #include <time.h>
 
 #include "ego.h"
-#include "lms_framer.h"
+#include "scan_file.h"
 
 #define MAX_SCANS 2000u
 
 static lms_scan_t scans[MAX_SCANS];
 static double seconds[MAX_SCANS];
 static ego_state_t state;
-
-static size_t load(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        (void)fprintf(stderr, "bench_estimator: cannot open '%s'\n", path);
-        exit(1);
-    }
-    static lms_framer_t framer;
-    lms_framer_init(&framer, LMS_FROM_SCANNER);
-    size_t n = 0u;
-    uint8_t chunk[4096];
-    int done = 0;
-    while (!done) {
-        const size_t got = fread(chunk, 1u, sizeof chunk, f);
-        done = got == 0u;
-        size_t off = 0u;
-        for (;;) {
-            size_t used = 0u;
-            const lms_framer_event_t ev = done ? lms_framer_flush(&framer)
-                                               : lms_framer_feed(&framer, chunk + off, got - off,
-                                                                 &used);
-            off += used;
-            if (ev == LMS_FRAMER_NEED_MORE) {
-                break;
-            }
-            size_t len = 0u;
-            const uint8_t *t = lms_framer_telegram(&framer, &len);
-            if (t != NULL && n < MAX_SCANS && lms_decode_scan(t, len, &scans[n]) == LMS_OK) {
-                n++;
-            }
-        }
-    }
-    (void)fclose(f);
-    return n;
-}
 
 static uint32_t period_us(uint16_t count)
 {
@@ -117,7 +81,7 @@ int main(int argc, char **argv)
         (void)fprintf(stderr, "usage: bench_estimator [--icp] [--mode HEX] [--once] STREAM\n");
         return 2;
     }
-    const size_t n = load(path);
+    const size_t n = scan_file_load(path, scans, MAX_SCANS);
     if (n < 2u) {
         (void)fprintf(stderr, "bench_estimator: fewer than two scans in '%s'\n", path);
         return 1;

@@ -20,7 +20,7 @@
 #include <time.h>
 
 #include "ego.h"
-#include "lms_framer.h"
+#include "scan_file.h"
 
 #define MAX_SCANS 2000u
 #define KINDS 5u
@@ -33,41 +33,6 @@ static hist_t hists[KINDS][2];
 static double err[KINDS][MAX_SCANS];
 static double build_s[KINDS][MAX_SCANS];
 static uint8_t aoi[HIST_BINS];
-
-static size_t load_stream(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        (void)fprintf(stderr, "exp_hist: cannot open '%s'\n", path);
-        exit(1);
-    }
-    static lms_framer_t framer;
-    lms_framer_init(&framer, LMS_FROM_SCANNER);
-    size_t n = 0u;
-    uint8_t chunk[4096];
-    int done = 0;
-    while (!done) {
-        const size_t got = fread(chunk, 1u, sizeof chunk, f);
-        done = got == 0u;
-        size_t off = 0u;
-        for (;;) {
-            size_t used = 0u;
-            const lms_framer_event_t ev =
-                done ? lms_framer_flush(&framer) : lms_framer_feed(&framer, chunk + off, got - off, &used);
-            off += used;
-            if (ev == LMS_FRAMER_NEED_MORE) {
-                break;
-            }
-            size_t len = 0u;
-            const uint8_t *t = lms_framer_telegram(&framer, &len);
-            if (t != NULL && n < MAX_SCANS && lms_decode_scan(t, len, &scans[n]) == LMS_OK) {
-                n++;
-            }
-        }
-    }
-    (void)fclose(f);
-    return n;
-}
 
 static void load_truth(const char *path)
 {
@@ -127,7 +92,7 @@ int main(int argc, char **argv)
         (void)fprintf(stderr, "usage: exp_hist STREAM TRUTH.pairs\n");
         return 2;
     }
-    const size_t n = load_stream(argv[1]);
+    const size_t n = scan_file_load(argv[1], scans, MAX_SCANS);
     load_truth(argv[2]);
     static ego_params_t params;
     ego_defaults(&params);

@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "framer_model.h"
+#include "gen_common.h"
 #include "lms_encode.h"
 #include "lms_proto.h"
 #include "room_scene.h"
@@ -105,42 +106,6 @@ static double rng_unit(rng_t *r)
 /* ------------------------------------------------------------------ */
 /* Growable byte buffer for the stream and the text outputs. */
 
-typedef struct {
-    uint8_t *data;
-    size_t len;
-    size_t cap;
-} buf_t;
-
-static void buf_free(buf_t *b)
-{
-    free(b->data);
-    b->data = NULL;
-    b->len = 0u;
-    b->cap = 0u;
-}
-
-static void buf_append(buf_t *b, const void *bytes, size_t n)
-{
-    if (n == 0u) {
-        return;
-    }
-    if (b->len + n > b->cap) {
-        size_t cap = (b->cap != 0u) ? b->cap : 4096u;
-        while (cap < b->len + n) {
-            cap *= 2u;
-        }
-        uint8_t *grown = realloc(b->data, cap);
-        if (grown == NULL) {
-            (void)fputs("lmsgen: out of memory\n", stderr);
-            exit(EXIT_RUNTIME);
-        }
-        b->data = grown;
-        b->cap = cap;
-    }
-    memcpy(b->data + b->len, bytes, n);
-    b->len += n;
-}
-
 static void buf_byte(buf_t *b, uint8_t byte)
 {
     buf_append(b, &byte, 1u);
@@ -156,22 +121,6 @@ static void buf_long(buf_t *b, long value)
     char text[24];
     (void)snprintf(text, sizeof text, "%ld", value);
     buf_text(b, text);
-}
-
-static int write_file(const char *path, const buf_t *b)
-{
-    FILE *fp = fopen(path, "wb");
-    if (fp == NULL) {
-        (void)fprintf(stderr, "lmsgen: cannot create '%s': %s\n", path, strerror(errno));
-        return -1;
-    }
-    const size_t written = (b->len > 0u) ? fwrite(b->data, 1u, b->len, fp) : 0u;
-    const int closed = fclose(fp);
-    if (written != b->len || closed != 0) {
-        (void)fprintf(stderr, "lmsgen: error writing '%s'\n", path);
-        return -1;
-    }
-    return 0;
 }
 
 /* ------------------------------------------------------------------ */
@@ -212,21 +161,6 @@ static int usage_error(const char *problem, const char *arg)
     (void)fprintf(stderr, "lmsgen: %s%s%s%s (try --help)\n", problem, arg ? " '" : "",
                   arg ? arg : "", arg ? "'" : "");
     return EXIT_USAGE;
-}
-
-static bool parse_unsigned(const char *text, uint64_t max, uint64_t *out)
-{
-    if (text[0] < '0' || text[0] > '9') {
-        return false;
-    }
-    errno = 0;
-    char *end = NULL;
-    const unsigned long long value = strtoull(text, &end, 10);
-    if (errno != 0 || *end != '\0' || value > max) {
-        return false;
-    }
-    *out = (uint64_t)value;
-    return true;
 }
 
 /* Returns -1 when the options are good, else the exit code. */
@@ -829,6 +763,7 @@ static int expected_stats(const gen_t *g, const gen_options_t *o, buf_t *line)
 
 int main(int argc, char **argv)
 {
+    gen_program = "lmsgen";
     gen_options_t o;
     const int parsed = parse_options(argc, argv, &o);
     if (parsed >= 0) {

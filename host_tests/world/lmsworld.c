@@ -25,6 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gen_common.h"
 #include "lms_encode.h"
 #include "lms_proto.h"
 #include "world_geom.h"
@@ -96,42 +97,6 @@ static double rng_gauss(rng_t *r)
 /* ------------------------------------------------------------------ */
 /* Growable byte buffer. */
 
-typedef struct {
-    uint8_t *data;
-    size_t len;
-    size_t cap;
-} buf_t;
-
-static void buf_free(buf_t *b)
-{
-    free(b->data);
-    b->data = NULL;
-    b->len = 0u;
-    b->cap = 0u;
-}
-
-static void buf_append(buf_t *b, const void *bytes, size_t n)
-{
-    if (n == 0u) {
-        return;
-    }
-    if (b->len + n > b->cap) {
-        size_t cap = (b->cap != 0u) ? b->cap : 4096u;
-        while (cap < b->len + n) {
-            cap *= 2u;
-        }
-        uint8_t *grown = realloc(b->data, cap);
-        if (grown == NULL) {
-            (void)fputs("lmsworld: out of memory\n", stderr);
-            exit(EXIT_RUNTIME);
-        }
-        b->data = grown;
-        b->cap = cap;
-    }
-    memcpy(b->data + b->len, bytes, n);
-    b->len += n;
-}
-
 /* printf into the buffer; every line written here is short. */
 static void buf_printf(buf_t *b, const char *format, ...)
     __attribute__((format(printf, 2, 3)));
@@ -149,22 +114,6 @@ static void buf_printf(buf_t *b, const char *format, ...)
         exit(EXIT_RUNTIME);
     }
     buf_append(b, text, (size_t)n);
-}
-
-static int write_file(const char *path, const buf_t *b)
-{
-    FILE *fp = fopen(path, "wb");
-    if (fp == NULL) {
-        (void)fprintf(stderr, "lmsworld: cannot create '%s': %s\n", path, strerror(errno));
-        return -1;
-    }
-    const size_t written = (b->len > 0u) ? fwrite(b->data, 1u, b->len, fp) : 0u;
-    const int closed = fclose(fp);
-    if (written != b->len || closed != 0) {
-        (void)fprintf(stderr, "lmsworld: error writing '%s'\n", path);
-        return -1;
-    }
-    return 0;
 }
 
 /* ------------------------------------------------------------------ */
@@ -221,21 +170,6 @@ static int usage_error(const char *problem, const char *arg)
     (void)fprintf(stderr, "lmsworld: %s%s%s%s (try --help)\n", problem, arg ? " '" : "",
                   arg ? arg : "", arg ? "'" : "");
     return EXIT_USAGE;
-}
-
-static bool parse_unsigned(const char *text, uint64_t max, uint64_t *out)
-{
-    if (text[0] < '0' || text[0] > '9') {
-        return false;
-    }
-    errno = 0;
-    char *end = NULL;
-    const unsigned long long value = strtoull(text, &end, 10);
-    if (errno != 0 || *end != '\0' || value > max) {
-        return false;
-    }
-    *out = (uint64_t)value;
-    return true;
 }
 
 static bool parse_double(const char *text, double *out)
@@ -463,6 +397,7 @@ static void generate(const gen_options_t *o, outputs_t *out)
 
 int main(int argc, char **argv)
 {
+    gen_program = "lmsworld";
     gen_options_t o;
     const int parsed = parse_options(argc, argv, &o);
     if (parsed >= 0) {
