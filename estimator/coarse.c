@@ -18,7 +18,7 @@ void coarse_defaults(coarse_params_t *params)
     params->window = FX_Q16_16_C(0.6);
     params->step = FX_Q16_16_C(0.2);
     params->fine_step = FX_Q16_16_C(0.05);
-    params->sigma = FX_Q16_16_C(0.15);
+    params->sigma = FX_Q16_16_C(0.10);
     params->rotation_steps = 1u;
     params->rotation_step = FX_BAM32_DEG_C(2.0);
     params->sample_points = 48u;
@@ -104,14 +104,24 @@ void coarse_search(const ego_scan_t *last, const ego_scan_t *current, const ego_
     }
     sample_t s;
     take_sample(current, params->sample_points, &s);
+    /* The score's distance scale follows the grid: with a finer scale than
+     * the step, the grid point nearest the truth (up to 0.7 steps away)
+     * may score below a wrong pose that happens to fit a few points. */
+    const fx_q16_16_t coarse_sigma = (params->step > params->sigma) ? params->step : params->sigma;
     *score = score_pose(last, current, &s, centre, params->sigma);
     const int32_t r = params->rotation_steps;
     for (int32_t k = -r; k <= r; k++) {
+        /* Coarse grid for this rotation, then the fine pass around its
+         * best: the rotations compete on the fine score only, because a
+         * coarse grid point's score depends on how near the truth the grid
+         * happens to fall. */
         ego_pose_t around = *centre;
         around.theta += (fx_bam32_t)((uint32_t)k * params->rotation_step);
-        grid(last, current, &s, &around, params->window, params->step, params->sigma, best, score);
+        ego_pose_t coarse_best = around;
+        uint64_t coarse_score = score_pose(last, current, &s, &around, coarse_sigma);
+        grid(last, current, &s, &around, params->window, params->step, coarse_sigma, &coarse_best,
+             &coarse_score);
+        grid(last, current, &s, &coarse_best, params->step, params->fine_step, params->sigma,
+             best, score);
     }
-    const ego_pose_t coarse_best = *best;
-    grid(last, current, &s, &coarse_best, params->step, params->fine_step, params->sigma, best,
-         score);
 }

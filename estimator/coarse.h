@@ -9,16 +9,17 @@
  * sum of max(0, sigma^2 - d^2). Candidates: the translations of a square
  * window of half-width `window` around the centre at `step`, for the
  * centre's rotation and rotation_steps rotations on each side of it
- * rotation_step apart; then a fine pass of fine_step around the best
- * within one coarse step. The best scoring pose is returned.
+ * rotation_step apart, scored with sigma = max(sigma, step); then, for
+ * each rotation, a fine pass of fine_step around its best within one
+ * coarse step, scored with sigma. The best fine-scored pose is returned.
  *
- * Worst case per call: (2 rotation_steps + 1) (2 window / step + 1)^2
- * + (2 step / fine_step + 1)^2 candidates, each sample_points distance
+ * Worst case per call: (2 rotation_steps + 1) ((2 window / step + 1)^2
+ * + (2 step / fine_step + 1)^2) candidates, each sample_points distance
  * queries of at most 2 ITCP_MAX_WALK segments. With the defaults
  * (window 0.6 m around a prediction, steps 0.2 / 0.05 m, one 2-degree
- * rotation step each side, 48 points): 3 x 49 + 81 = 228 candidates,
- * 10 944 queries; with the 4 m window used when there is no prediction yet
- * (ego.h): 3 x 1681 + 81 = 5124 candidates. All integer.
+ * rotation step each side, 48 points): 3 x (49 + 81) = 390 candidates,
+ * 18 720 queries; with the 4 m window used when there is no prediction yet
+ * (ego.h): 3 x (1681 + 81) = 5286 candidates. All integer.
  */
 #ifndef COARSE_H
 #define COARSE_H
@@ -33,7 +34,7 @@ typedef struct {
     fx_q16_16_t window;        /* half-width of the translation window, m */
     fx_q16_16_t step;          /* coarse step, m */
     fx_q16_16_t fine_step;     /* fine step, m */
-    fx_q16_16_t sigma;         /* distance scale of the score, m */
+    fx_q16_16_t sigma;         /* distance scale of the fine score, m (coarse: step) */
     uint8_t rotation_steps;    /* rotations tried on each side of the centre's */
     fx_bam32_t rotation_step;
     uint16_t sample_points;    /* current points scored per candidate */

@@ -1,0 +1,208 @@
+/* test_ego.c - the coarse translation search (estimator/coarse.c) and the
+ * per-scan pipeline (estimator/ego.c) on ray-cast scans with known motion:
+ * first scan, velocities from the scan times, large motions, time gaps,
+ * too few points, the slots swapping. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "coarse.h"
+#include "ego.h"
+#include "fx_host.h"
+#include "synth_scan.h"
+#include "unity.h"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static lms_scan_t g_lms;
+static ego_scan_t g_last;
+static ego_scan_t g_current;
+static ego_state_t g_state;
+static ego_params_t g_params;
+
+static double rad_of(fx_bam32_t a)
+{
+    return (double)fx_bam32_diff(a, 0u) * FX_HOST_PI / 2147483648.0;
+}
+
+static void room_lms(double x, double y, double heading_deg)
+{
+    synth_scan(synth_room, synth_room_walls, x, y, heading_deg * FX_HOST_PI / 180.0, 361u,
+               LMS_UNIT_CM, &g_lms);
+}
+
+static void prepared(double x, double y, double heading_deg, ego_scan_t *scan)
+{
+    room_lms(x, y, heading_deg);
+    ego_prep_params_t prep;
+    ego_prep_defaults(&prep);
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, &prep, scan));
+}
+
+static void test_coarse_search_finds_a_large_translation(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(1.3, -0.9, 0.0, &g_current);
+    coarse_params_t p;
+    coarse_defaults(&p);
+    p.window = FX_Q16_16_C(2.0);
+    const ego_pose_t centre = {0u, 0, 0};
+    ego_pose_t best;
+    uint64_t score = 0u;
+    coarse_search(&g_last, &g_current, &centre, &p, &best, &score);
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "found (%.3f, %.3f, %.3f deg)", fx_q16_16_to_double(best.x),
+                   fx_q16_16_to_double(best.y), rad_of(best.theta) * 180.0 / FX_HOST_PI);
+    TEST_ASSERT_TRUE_MESSAGE(score > 0u, msg);
+    /* The fine grid is 5 cm: within a cell of the truth. */
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best.x) - 1.3) <= 0.06, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best.y) + 0.9) <= 0.06, msg);
+    TEST_ASSERT_EQUAL_UINT32_MESSAGE(0u, best.theta, msg);
+
+    /* A window too small to contain the motion cannot reach it. */
+    p.window = FX_Q16_16_C(0.4);
+    coarse_search(&g_last, &g_current, &centre, &p, &best, &score);
+    TEST_ASSERT_TRUE(fx_q16_16_to_double(best.x) < 0.7);
+}
+
+static void test_coarse_search_corrects_a_small_rotation(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(0.6, 0.3, 2.0, &g_current);
+    coarse_params_t p;
+    coarse_defaults(&p);
+    p.window = FX_Q16_16_C(1.0);
+    const ego_pose_t centre = {0u, 0, 0}; /* 2 deg off */
+    ego_pose_t best;
+    uint64_t score = 0u;
+    coarse_search(&g_last, &g_current, &centre, &p, &best, &score);
+    TEST_ASSERT_EQUAL_UINT32(FX_BAM32_DEG_C(2.0), best.theta); /* the +1 step */
+    TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(best.x) - 0.6) <= 0.06);
+}
+
+static void test_coarse_search_without_points_keeps_the_centre(void)
+{
+    memset(&g_last, 0, sizeof g_last);
+    prepared(0.0, 0.0, 0.0, &g_current);
+    coarse_params_t p;
+    coarse_defaults(&p);
+    const ego_pose_t centre = {77u, 123, -456};
+    ego_pose_t best;
+    uint64_t score = 9u;
+    coarse_search(&g_last, &g_current, &centre, &p, &best, &score);
+    TEST_ASSERT_TRUE(score == 0u);
+    TEST_ASSERT_EQUAL_MEMORY(&centre, &best, sizeof best);
+}
+
+/* Feeds the room seen from (x, y, heading) at time t_us. */
+static ego_output_t step(double x, double y, double heading_deg, uint32_t t_us)
+{
+    room_lms(x, y, heading_deg);
+    ego_output_t out;
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_lms, t_us, &out));
+    return out;
+}
+
+static void test_ego_first_scan_then_motion_and_velocities(void)
+{
+    ego_defaults(&g_params);
+    ego_reset(&g_state);
+    ego_output_t out = step(0.0, 0.0, 0.0, 1000000u);
+    TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
+    TEST_ASSERT_EQUAL_INT32(0, out.pose.x);
+    TEST_ASSERT_TRUE(out.points > 300u);
+
+    /* 0.2 m ahead and 1 deg left in 40 ms: 5 m/s, 0.436 rad/s. */
+    out = step(0.2, 0.0, 1.0, 1040000u);
+    char msg[128];
+    (void)snprintf(msg, sizeof msg, "pose (%.4f, %.4f, %.4f) v (%.3f, %.3f, %.3f) flags %u",
+                   fx_q16_16_to_double(out.pose.x), fx_q16_16_to_double(out.pose.y),
+                   rad_of(out.pose.theta), fx_q16_16_to_double(out.vx),
+                   fx_q16_16_to_double(out.vy), fx_q16_16_to_double(out.omega),
+                   (unsigned)out.flags);
+    TEST_ASSERT_EQUAL_HEX16_MESSAGE(0u, out.flags, msg);
+    TEST_ASSERT_EQUAL_UINT32(40000u, out.dt_us);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 0.2) < 0.003, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.y)) < 0.003, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(out.pose.theta) - 1.0 * FX_HOST_PI / 180.0) < 0.0005, msg);
+    /* Velocities are the pose over the interval. */
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.vx) -
+                                  fx_q16_16_to_double(out.pose.x) / 0.04) < 0.001, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.omega) - rad_of(out.pose.theta) / 0.04) <
+                                 0.001, msg);
+    TEST_ASSERT_TRUE(out.matches > 200u && out.inliers > 200u);
+    TEST_ASSERT_TRUE(out.correlation > (fx_q2_30_t)(FX_Q2_30_ONE / 2));
+
+    /* The next scan is relative to the second one (the slots swapped). */
+    out = step(0.4, 0.0, 2.0, 1080000u);
+    (void)snprintf(msg, sizeof msg, "pose (%.4f, %.4f, %.4f)", fx_q16_16_to_double(out.pose.x),
+                   fx_q16_16_to_double(out.pose.y), rad_of(out.pose.theta));
+    /* Scan 3 in the frame of scan 2: 0.2 m along scan 2's heading. */
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 0.19997) < 0.003, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(out.pose.theta) - 1.0 * FX_HOST_PI / 180.0) < 0.0005, msg);
+}
+
+static void test_ego_large_first_motion_needs_the_coarse_search(void)
+{
+    ego_defaults(&g_params);
+    ego_reset(&g_state);
+    (void)step(0.0, 0.0, 0.0, 0u);
+    ego_output_t out = step(1.6, 0.8, 5.0, 100000u);
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "pose (%.4f, %.4f, %.4f deg) flags %u",
+                   fx_q16_16_to_double(out.pose.x), fx_q16_16_to_double(out.pose.y),
+                   rad_of(out.pose.theta) * 180.0 / FX_HOST_PI, (unsigned)out.flags);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 1.6) < 0.01, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.y) - 0.8) < 0.01, msg);
+    /* Without the coarse search ITCP cannot get there. */
+    g_params.use_coarse = false;
+    ego_reset(&g_state);
+    (void)step(0.0, 0.0, 0.0, 0u);
+    out = step(1.6, 0.8, 5.0, 100000u);
+    TEST_ASSERT_FALSE(fabs(fx_q16_16_to_double(out.pose.x) - 1.6) < 0.01 &&
+                      fabs(fx_q16_16_to_double(out.pose.y) - 0.8) < 0.01);
+}
+
+static void test_ego_gap_and_sparse_scans(void)
+{
+    ego_defaults(&g_params);
+    ego_reset(&g_state);
+    (void)step(0.0, 0.0, 0.0, 0u);
+    ego_output_t out = step(0.1, 0.0, 0.0, 26667u);
+    TEST_ASSERT_EQUAL_HEX16(0u, out.flags);
+    /* A silence longer than max_gap_us starts over. */
+    out = step(0.2, 0.0, 0.0, 26667u + 2000000u);
+    TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
+    (void)step(0.3, 0.0, 0.0, 2053334u);
+    /* A scan with almost no points: the last motion, scaled, flagged. */
+    room_lms(0.4, 0.0, 0.0);
+    for (unsigned k = 10u; k < g_lms.count; k++) {
+        g_lms.values[k] = 0x1FFFu;
+    }
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_lms, 2080001u, &out));
+    TEST_ASSERT_TRUE((out.flags & EGO_FLAG_TOO_FEW_POINTS) != 0u);
+    TEST_ASSERT_TRUE((out.flags & EGO_FLAG_PREDICTED) != 0u);
+    TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(out.pose.x) - 0.1) < 0.005);
+    /* A scan without a layout leaves the state alone. */
+    g_lms.count = 180u;
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &g_lms, 2100000u, &out));
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_ARG, ego_process(NULL, &g_params, &g_lms, 0u, &out));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_coarse_search_finds_a_large_translation);
+    RUN_TEST(test_coarse_search_corrects_a_small_rotation);
+    RUN_TEST(test_coarse_search_without_points_keeps_the_centre);
+    RUN_TEST(test_ego_first_scan_then_motion_and_velocities);
+    RUN_TEST(test_ego_large_first_motion_needs_the_coarse_search);
+    RUN_TEST(test_ego_gap_and_sparse_scans);
+    return UNITY_END();
+}
