@@ -205,8 +205,7 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
                 best_k = k;
             }
         }
-        n = tried;
-        out->candidates = n;
+        out->candidates = tried;
         if (best_status == ITCP_OK) {
             matched = true;
             out->pose = best.pose;
