@@ -121,6 +121,9 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
     if (k == 0u) {
         return; /* the first scan has no motion */
     }
+    if (loop->config.observer != NULL) {
+        loop->config.observer(loop->config.observer_ctx, k, t_us, &out);
+    }
     line_t l = {loop->line, 0u};
     if (!loop->header_written) {
         put_text(&l, "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,"

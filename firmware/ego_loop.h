@@ -44,8 +44,17 @@ typedef struct {
 #define EGO_LOOP_READ_CHUNK 256u
 #define EGO_LOOP_LINE_MAX 192u
 
+/* Optional: called after every scan after the first with its index, its
+ * time (microseconds from the first scan) and the estimator's output, for
+ * host tools that keep more than the CSV line (lmsego replay --pairs,
+ * --tum). */
+typedef void (*ego_loop_observer_fn)(void *ctx, uint32_t scan, uint32_t time_us,
+                                     const ego_output_t *out);
+
 typedef struct {
     ego_params_t ego;
+    ego_loop_observer_fn observer; /* NULL: none */
+    void *observer_ctx;
     /* Time of scan k: k * period_us when nonzero; 0 with use_clock false:
      * the period of the LMS mode of the first scan (1/75 s for 1-degree
      * scans, 1/37.5 s at 0.5 deg, 1/18.75 s at 0.25 deg). */

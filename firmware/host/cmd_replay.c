@@ -1,9 +1,16 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
- * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH]`: runs the firmware loop (firmware/ego_loop.h) over a
+ * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH] [--pairs OUT] [--tum OUT]`:
+ * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
+ *
+ * --pairs OUT also writes `i j dx dy dtheta` per consecutive pair (scan
+ * numbers count decoded scans; the format relpose_eval.py reads); a
+ * restart (flag 1) has no relative pose and gives no line. --tum OUT
+ * writes the integrated trajectory `time x y z qx qy qz qw`, starting at
+ * the origin; across a restart it holds the last pose.
  */
 #include <errno.h>
 #include <math.h>
@@ -19,7 +26,62 @@ typedef struct {
     stream_file_t file;
     int failed; /* a read error happened */
     int write_failed;
+    FILE *pairs;  /* --pairs, or NULL */
+    FILE *tum;    /* --tum, or NULL */
+    double x, y, theta; /* integrated pose for --tum */
 } replay_io_t;
+
+/* Output of one scan: the extra files (host-only, doubles are fine). */
+static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
+{
+    replay_io_t *io = ctx;
+    const double dx = (double)out->pose.x / 65536.0;
+    const double dy = (double)out->pose.y / 65536.0;
+    const double dt = (double)fx_bam32_diff(out->pose.theta, 0u) * (3.14159265358979323846 / 2147483648.0);
+    const int restart = (out->flags & EGO_FLAG_FIRST) != 0u;
+    /* The translation exactly as the CSV prints it: micrometres rounded
+     * half away from zero (x * 10^6 / 2^16 is exact in a double). */
+    const long long ux = llround((double)out->pose.x * 1e6 / 65536.0);
+    const long long uy = llround((double)out->pose.y * 1e6 / 65536.0);
+    if (io->pairs != NULL && !restart &&
+        fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n", (unsigned long)scan - 1ul,
+                (unsigned long)scan, (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
+                (uy < 0) ? "-" : "", llabs(uy) / 1000000, llabs(uy) % 1000000, dt) < 0) {
+        io->write_failed = 1;
+    }
+    if (io->tum != NULL) {
+        if (!restart) {
+            const double c = cos(io->theta);
+            const double s = sin(io->theta);
+            io->x += c * dx - s * dy;
+            io->y += s * dx + c * dy;
+            io->theta = remainder(io->theta + dt, 2.0 * 3.14159265358979323846);
+        }
+        if (fprintf(io->tum, "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n", (double)time_us * 1e-6, io->x,
+                    io->y, sin(io->theta / 2.0), cos(io->theta / 2.0)) < 0) {
+            io->write_failed = 1;
+        }
+    }
+}
+
+/* Opens an output file for --pairs / --tum; NULL after a message. */
+static FILE *open_output(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        cli_file_error("cannot create ", path, strerror(errno));
+    }
+    return f;
+}
+
+static int close_output(FILE *f, const char *path)
+{
+    if (f != NULL && fclose(f) != 0) {
+        cli_file_error("error writing ", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
 
 static int32_t hal_read(void *ctx, uint8_t *buf, size_t cap)
 {
@@ -129,6 +191,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     static ego_loop_t loop;
     ego_loop_defaults(&config);
     const char *path = NULL;
+    const char *pairs_path = NULL;
+    const char *tum_path = NULL;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -146,6 +210,16 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         } else if (strcmp(arg, "--mount") == 0) {
             if (value == NULL || parse_mount(value, &config.ego.prep) != 0) {
                 return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
+            }
+            i++;
+        } else if (strcmp(arg, "--pairs") == 0 || strcmp(arg, "--tum") == 0) {
+            if (value == NULL) {
+                return cli_usage_error(self, "missing file after", arg, NULL);
+            }
+            if (arg[2] == 'p') {
+                pairs_path = value;
+            } else {
+                tum_path = value;
             }
             i++;
         } else if (strcmp(arg, "--icp") == 0) {
@@ -180,12 +254,24 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         cli_file_error("cannot open ", shown, strerror(open_error));
         return CLI_EXIT_RUNTIME;
     }
+    if ((pairs_path != NULL && (io.pairs = open_output(pairs_path)) == NULL) ||
+        (tum_path != NULL && (io.tum = open_output(tum_path)) == NULL)) {
+        (void)close_output(io.pairs, pairs_path);
+        stream_file_close(&io.file);
+        return CLI_EXIT_RUNTIME;
+    }
+    if (io.tum != NULL) { /* the first scan, at the origin */
+        (void)fprintf(io.tum, "%.6f 0.000000 0.000000 0 0 0 0.000000000 1.000000000\n", 0.0);
+    }
+    config.observer = observe;
+    config.observer_ctx = &io;
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, &io};
     ego_loop_init(&loop, &config);
     while (ego_loop_step(&loop, &hal) != EGO_LOOP_END) {
     }
     const int read_error = io.file.error;
     stream_file_close(&io.file);
+    const int closed = close_output(io.pairs, pairs_path) | close_output(io.tum, tum_path);
     if (io.failed) {
         cli_file_error("error reading ", shown, strerror(read_error));
         return CLI_EXIT_RUNTIME;
@@ -197,8 +283,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                   (unsigned long)st->scans, (unsigned long)st->lines,
                   (unsigned long)st->predicted, (unsigned long)st->restarts,
                   (unsigned long)st->decode_errors);
-    if (io.write_failed) {
-        cli_error("write error on standard output");
+    if (io.write_failed || closed != 0) {
+        cli_error("write error");
         return CLI_EXIT_RUNTIME;
     }
     return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;

@@ -124,3 +124,12 @@ lmsego_cli_test(replay_bad_hist ARGS replay --hist XYZ ${LMSEGO_SEQ}/table2_361_
     OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=XYZ)
 lmsego_cli_test(replay_garbage ARGS replay ${LMSEGO_CLI_DATA}/vectors.hex
     OPTIONS -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=scans=0)
+add_test(NAME cli_replay_pairs_tum
+    COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego>
+            -DSTREAM=${LMSEGO_SEQ}/fast_361_cm.lms
+            -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/replay_outputs
+            -P ${LMSEGO_CLI_DATA}/replay_outputs.cmake)
+set_tests_properties(cli_replay_pairs_tum PROPERTIES LABELS "cli")
+lmsego_cli_test(replay_pairs_unwritable ARGS replay --pairs /nonexistent-dir/x.pairs
+    ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=x\\.pairs)
