@@ -15,4 +15,7 @@ int cmd_scans(const cli_command_t *self, int argc, char **argv);
  * firmware loop over a recording; ego-motion CSV on stdout. */
 int cmd_replay(const cli_command_t *self, int argc, char **argv);
 
+/* lmsego import-carmen LOG -o STREAM [--odometry OUT] [--no-return M]. */
+int cmd_import_carmen(const cli_command_t *self, int argc, char **argv);
+
 #endif /* LMSEGO_COMMANDS_H */

@@ -19,6 +19,9 @@ static const cli_command_t commands[] = {
     {"replay",
      "[--period S] [--mount X,Y,DEG] [--mode HEX] [--icp] [--hist KIND] [--pairs OUT] [--tum OUT] FILE",
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
+    {"import-carmen", "LOG -o STREAM [--odometry OUT] [--no-return M]",
+     "convert a CARMEN laser log (plain or .gz) into an LMS 2xx telegram stream",
+     cmd_import_carmen},
 };
 
 #define COMMAND_COUNT (sizeof commands / sizeof commands[0])

@@ -133,3 +133,24 @@ set_tests_properties(cli_replay_pairs_tum PROPERTIES LABELS "cli")
 lmsego_cli_test(replay_pairs_unwritable ARGS replay --pairs /nonexistent-dir/x.pairs
     ${LMSEGO_SEQ}/table2_361_cm.lms
     OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=x\\.pairs)
+
+# --- import-carmen ---------------------------------------------------------
+set(LMSEGO_CARMEN ${LMSEGO_CLI_DATA}/../../../host_tests/data/carmen)
+add_test(NAME cli_import_carmen
+    COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> -DDATA=${LMSEGO_CARMEN}
+            -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/import_carmen
+            -P ${LMSEGO_CLI_DATA}/import_carmen.cmake)
+set_tests_properties(cli_import_carmen PROPERTIES LABELS "cli")
+lmsego_cli_test(import_carmen_missing_log ARGS import-carmen ${LMSEGO_CLI_MISSING} -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=no-such-file)
+lmsego_cli_test(import_carmen_no_output ARGS import-carmen ${LMSEGO_CARMEN}/intel_first4.log
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=-o)
+lmsego_cli_test(import_carmen_bad_no_return ARGS import-carmen ${LMSEGO_CARMEN}/intel_first4.log
+    -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms --no-return -3
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=no-return)
+lmsego_cli_test(import_carmen_binary ARGS import-carmen ${LMSEGO_CLI_DATA}/vectors.lms
+    -o ${CMAKE_CURRENT_BINARY_DIR}/empty.lms
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=not\ a\ CARMEN)
+lmsego_cli_test(import_carmen_text_without_lasers ARGS import-carmen ${LMSEGO_CARMEN}/README.md
+    -o ${CMAKE_CURRENT_BINARY_DIR}/empty.lms
+    OPTIONS -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=scans=0)

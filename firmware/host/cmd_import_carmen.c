@@ -1,0 +1,384 @@
+/* cmd_import_carmen.c - `lmsego import-carmen LOG -o STREAM [--odometry OUT]
+ * [--no-return M]`: converts the laser lines of a CARMEN log (plain or
+ * gzip'd, read through zlib; FLASER/RLASER and ROBOTLASER1) into an LMS 2xx
+ * B0 telegram stream, the format `lmsego stats`, `scans` and `replay` read.
+ *
+ * Beam geometry is kept exact: 180 or 181 beams from -90 deg at 1 deg
+ * become a 181-value 1-degree scan, 360 or 361 beams at 0.5 deg a
+ * 361-value scan; a missing last beam (+90 deg) is written as no return.
+ * Old-style lines carry no angles and follow GMapping's reader (beam k at
+ * -90 + k deg for 180 beams); ROBOTLASER1 lines must start at -90 deg with
+ * 1 or 0.5 deg steps, others are counted and left out.
+ *
+ * Ranges are written in centimetres (measuring mode 00) when every reading
+ * is a whole number of centimetres (no loss), else in millimetres with the
+ * 16-bit measuring mode 0F (replay then needs --mode 0F; no-return is 0
+ * there). The no-return code is the largest reading of the log (CARMEN
+ * loggers write the maximum range for "no return": 81.83 m in intel,
+ * 50.00 m in aces), or --no-return M: readings at or above it, and any
+ * reading beyond what the unit can hold, become the LMS no-return value.
+ *
+ * --odometry OUT writes `i j dx dy dtheta` between consecutive scans from
+ * the ODOM records: increments chained into a continuous trajectory, the
+ * re-anchoring records GMapping writes right after each laser line (equal
+ * to that line's pose) skipped, each scan taking the pose of the last
+ * ODOM record before it (the rules of ../shared/tools/carmenlog.py).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+#include "commands.h"
+#include "lms_encode.h"
+
+#define LINE_MAX_BYTES 65536u
+#define MAX_BEAMS 361u
+#define PI 3.14159265358979323846
+
+typedef struct {
+    double x, y, theta;
+} pose_t;
+
+static double wrap(double a)
+{
+    return remainder(a, 2.0 * PI);
+}
+
+static pose_t compose(pose_t a, pose_t b)
+{
+    const double c = cos(a.theta);
+    const double s = sin(a.theta);
+    const pose_t r = {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrap(a.theta + b.theta)};
+    return r;
+}
+
+static pose_t between(pose_t a, pose_t b)
+{
+    const double c = cos(a.theta);
+    const double s = sin(a.theta);
+    const double dx = b.x - a.x;
+    const double dy = b.y - a.y;
+    const pose_t r = {c * dx + s * dy, -s * dx + c * dy, wrap(b.theta - a.theta)};
+    return r;
+}
+
+/* One laser line: its ranges (metres) and the beam step (1 or 0.5 deg). */
+typedef struct {
+    double range[MAX_BEAMS];
+    unsigned n;
+    unsigned values; /* 181 or 361 */
+    pose_t pose;     /* the line's (corrected) pose */
+} laser_t;
+
+/* Splits line into whitespace-separated tokens (in place). */
+static unsigned tokenize(char *line, char **tok, unsigned max)
+{
+    unsigned n = 0u;
+    char *save = NULL;
+    for (char *t = strtok_r(line, " \t\r\n", &save); t != NULL && n < max;
+         t = strtok_r(NULL, " \t\r\n", &save)) {
+        tok[n++] = t;
+    }
+    return n;
+}
+
+static int number(const char *text, double *out)
+{
+    char *end = NULL;
+    *out = strtod(text, &end);
+    return (end != text && *end == '\0' && isfinite(*out)) ? 0 : -1;
+}
+
+/* Values per scan for n beams of step inc (rad), starting at -90 deg; 0
+ * for a geometry the LMS does not have. */
+static unsigned lms_values_for(unsigned n, double inc)
+{
+    if ((n == 180u || n == 181u) && fabs(inc - PI / 180.0) < 1e-6) {
+        return 181u;
+    }
+    if ((n == 360u || n == 361u) && fabs(inc - PI / 360.0) < 1e-6) {
+        return 361u;
+    }
+    return 0u;
+}
+
+/* Parses a laser line; 1 = a scan, 0 = not a laser line, -1 = unsupported
+ * or malformed laser line. */
+static int parse_laser(char **tok, unsigned ntok, laser_t *l)
+{
+    unsigned first;
+    unsigned n;
+    double inc;
+    size_t pose_at;
+    if (strcmp(tok[0], "FLASER") == 0 || strcmp(tok[0], "RLASER") == 0) {
+        if (ntok < 2u) {
+            return -1;
+        }
+        n = (unsigned)strtoul(tok[1], NULL, 10);
+        first = 2u;
+        inc = (n == 360u || n == 361u) ? PI / 360.0 : PI / 180.0;
+        pose_at = 2u + n;
+    } else if (strcmp(tok[0], "ROBOTLASER1") == 0) {
+        double start;
+        double res;
+        if (ntok < 10u || number(tok[2], &start) != 0 || number(tok[4], &res) != 0 ||
+            fabs(start + PI / 2.0) > 1e-6) {
+            return -1;
+        }
+        n = (unsigned)strtoul(tok[8], NULL, 10);
+        first = 9u;
+        inc = res;
+        if (9u + n >= ntok) {
+            return -1;
+        }
+        const unsigned m = (unsigned)strtoul(tok[9u + n], NULL, 10);
+        pose_at = 9u + n + 1u + m;
+    } else {
+        return 0;
+    }
+    l->values = lms_values_for(n, inc);
+    if (l->values == 0u || n > MAX_BEAMS || pose_at + 3u > ntok) {
+        return -1;
+    }
+    l->n = n;
+    for (unsigned k = 0u; k < n; k++) {
+        if (number(tok[first + k], &l->range[k]) != 0 || l->range[k] < 0.0) {
+            return -1;
+        }
+    }
+    if (number(tok[pose_at], &l->pose.x) != 0 || number(tok[pose_at + 1u], &l->pose.y) != 0 ||
+        number(tok[pose_at + 2u], &l->pose.theta) != 0) {
+        return -1;
+    }
+    return 1;
+}
+
+typedef struct {
+    const char *log_path;
+    const char *out_path;
+    const char *odom_path;
+    double no_return; /* 0: the largest reading */
+} import_args_t;
+
+/* Pass 1: the largest reading, and whether every reading below the
+ * no-return code is a whole number of centimetres. */
+static int survey(gzFile in, char *line, double *largest, int *whole_cm, unsigned long *lines,
+                  double no_return)
+{
+    static char *tok[LINE_MAX_BYTES / 2u];
+    static laser_t l;
+    *largest = 0.0;
+    *whole_cm = 1;
+    *lines = 0u;
+    while (gzgets(in, line, (int)LINE_MAX_BYTES) != NULL) {
+        (*lines)++;
+        if (strchr(line, '\n') == NULL && !gzeof(in)) {
+            return -1; /* a line longer than the buffer, or a NUL byte */
+        }
+        const unsigned ntok = tokenize(line, tok, LINE_MAX_BYTES / 2u);
+        if (ntok == 0u || parse_laser(tok, ntok, &l) != 1) {
+            continue;
+        }
+        for (unsigned k = 0u; k < l.n; k++) {
+            *largest = fmax(*largest, l.range[k]);
+        }
+        for (unsigned k = 0u; k < l.n; k++) {
+            const double cm = l.range[k] * 100.0;
+            if ((no_return <= 0.0 || l.range[k] < no_return) && fabs(cm - round(cm)) > 1e-6) {
+                *whole_cm = 0;
+            }
+        }
+    }
+    return 0;
+}
+
+static int import(const import_args_t *a)
+{
+    static char line[LINE_MAX_BYTES];
+    static char *tok[LINE_MAX_BYTES / 2u];
+    static laser_t l;
+    static lms_scan_t scan;
+    static uint8_t telegram[LMS_TELEGRAM_MAX];
+
+    gzFile in = gzopen(a->log_path, "rb");
+    if (in == NULL) {
+        cli_file_error("cannot open ", a->log_path, strerror(errno != 0 ? errno : EIO));
+        return CLI_EXIT_RUNTIME;
+    }
+    double largest = 0.0;
+    int whole_cm = 1;
+    unsigned long lines = 0u;
+    if (survey(in, line, &largest, &whole_cm, &lines, a->no_return) != 0) {
+        (void)gzclose(in);
+        cli_file_error("not a CARMEN text log: ", a->log_path,
+                       "a line over 64 KiB, or binary data");
+        return CLI_EXIT_RUNTIME;
+    }
+    const double no_return = (a->no_return > 0.0) ? a->no_return : largest;
+    /* Pass 1 could not know the code when it was the largest reading: check
+     * the whole-centimetre rule again against it. */
+    if (a->no_return <= 0.0) {
+        (void)gzrewind(in);
+        (void)survey(in, line, &largest, &whole_cm, &lines, no_return);
+    }
+    (void)gzrewind(in);
+
+    FILE *out = fopen(a->out_path, "wb");
+    FILE *odom = (a->odom_path != NULL) ? fopen(a->odom_path, "w") : NULL;
+    if (out == NULL || (a->odom_path != NULL && odom == NULL)) {
+        cli_file_error("cannot create ", (out == NULL) ? a->out_path : a->odom_path,
+                       strerror(errno));
+        if (out != NULL) {
+            (void)fclose(out);
+        }
+        (void)gzclose(in);
+        return CLI_EXIT_RUNTIME;
+    }
+    /* As recorded after `20 24`: ACK, then the A0 reply, then the stream. */
+    static const uint8_t start[] = {0x06, 0x02, 0x80, 0x03, 0x00, 0xA0, 0x00, 0x10, 0x16, 0x0A};
+    int failed = fwrite(start, 1u, sizeof start, out) != sizeof start;
+
+    const lms_unit_t unit = whole_cm ? LMS_UNIT_CM : LMS_UNIT_MM;
+    const double per_metre = whole_cm ? 100.0 : 1000.0;
+    const unsigned largest_code = whole_cm ? 0x1FF6u : 0xFFFFu;
+    const uint16_t no_return_code = whole_cm ? 0x1FFFu : 0u;
+
+    unsigned long scans = 0u;
+    unsigned long unsupported = 0u;
+    pose_t cont = {0.0, 0.0, 0.0};
+    pose_t prev_odom = {0.0, 0.0, 0.0};
+    int have_odom = 0;
+    int just_after_laser = 0;
+    pose_t last_laser = {0.0, 0.0, 0.0};
+    pose_t prev_scan_odom = {0.0, 0.0, 0.0};
+    int prev_scan_has_odom = 0;
+    while (!failed && gzgets(in, line, (int)LINE_MAX_BYTES) != NULL) {
+        const unsigned ntok = tokenize(line, tok, LINE_MAX_BYTES / 2u);
+        if (ntok == 0u) {
+            continue;
+        }
+        if (strcmp(tok[0], "ODOM") == 0) {
+            pose_t p;
+            if (ntok >= 4u && number(tok[1], &p.x) == 0 && number(tok[2], &p.y) == 0 &&
+                number(tok[3], &p.theta) == 0) {
+                const int reanchor = just_after_laser && fabs(p.x - last_laser.x) < 1e-6 &&
+                                     fabs(p.y - last_laser.y) < 1e-6 &&
+                                     fabs(wrap(p.theta - last_laser.theta)) < 1e-6;
+                if (have_odom && !reanchor) {
+                    cont = compose(cont, between(prev_odom, p));
+                }
+                have_odom = 1;
+                prev_odom = p;
+            }
+            just_after_laser = 0;
+            continue;
+        }
+        if (strcmp(tok[0], "NEFF") == 0 || tok[0][0] == '#') {
+            continue;
+        }
+        just_after_laser = 0;
+        const int parsed = parse_laser(tok, ntok, &l);
+        if (parsed == 0) {
+            continue;
+        }
+        if (parsed < 0) {
+            unsupported++;
+            continue;
+        }
+        memset(&scan, 0, sizeof scan);
+        scan.count = (uint16_t)l.values;
+        scan.unit = unit;
+        scan.address = 0x80u;
+        scan.status = 0x10u;
+        for (unsigned k = 0u; k < l.values; k++) {
+            uint16_t v = no_return_code;
+            if (k < l.n && l.range[k] < no_return) {
+                const double units = round(l.range[k] * per_metre);
+                v = (units <= (double)largest_code) ? (uint16_t)units : no_return_code;
+            }
+            scan.values[k] = v;
+        }
+        size_t written = 0u;
+        if (lms_encode_scan(telegram, sizeof telegram, 0x80u, &scan, &written) != LMS_OK ||
+            fwrite(telegram, 1u, written, out) != written) {
+            failed = 1;
+            break;
+        }
+        if (odom != NULL && have_odom && prev_scan_has_odom) {
+            const pose_t d = between(prev_scan_odom, cont);
+            if (fprintf(odom, "%lu %lu %.9f %.9f %.9f\n", scans - 1u, scans, d.x, d.y, d.theta) <
+                0) {
+                failed = 1;
+            }
+        }
+        prev_scan_odom = cont;
+        prev_scan_has_odom = have_odom;
+        last_laser = l.pose;
+        just_after_laser = 1;
+        scans++;
+    }
+    const int read_error = !gzeof(in) && !failed;
+    (void)gzclose(in);
+    failed |= (fclose(out) != 0);
+    if (odom != NULL) {
+        failed |= (fclose(odom) != 0);
+    }
+    if (read_error) {
+        cli_file_error("error reading ", a->log_path, "corrupt or truncated");
+        return CLI_EXIT_RUNTIME;
+    }
+    if (failed) {
+        cli_file_error("error writing ", a->out_path, strerror(errno));
+        return CLI_EXIT_RUNTIME;
+    }
+    (void)fprintf(stderr,
+                  "lmsego: import-carmen: scans=%lu unsupported=%lu unit=%s no_return=%.2f%s\n",
+                  scans, unsupported, whole_cm ? "cm" : "mm", no_return,
+                  whole_cm ? "" : " (replay with --mode 0F)");
+    return CLI_EXIT_OK;
+}
+
+int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
+{
+    import_args_t a = {NULL, NULL, NULL, 0.0};
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
+        if (cli_is_help(arg)) {
+            cli_print_command_usage(self);
+            return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
+        }
+        if (strcmp(arg, "-o") == 0 || strcmp(arg, "--odometry") == 0) {
+            if (value == NULL) {
+                return cli_usage_error(self, "missing file after", arg, NULL);
+            }
+            if (arg[1] == 'o') {
+                a.out_path = value;
+            } else {
+                a.odom_path = value;
+            }
+            i++;
+        } else if (strcmp(arg, "--no-return") == 0) {
+            if (value == NULL || number(value, &a.no_return) != 0 || a.no_return <= 0.0) {
+                return cli_usage_error(self, "invalid --no-return", value, "metres, > 0");
+            }
+            i++;
+        } else if (arg[0] == '-' && arg[1] != '\0') {
+            return cli_usage_error(self, "unknown option", arg, NULL);
+        } else if (a.log_path != NULL) {
+            return cli_usage_error(self, "unexpected argument", arg, NULL);
+        } else {
+            a.log_path = arg;
+        }
+    }
+    if (a.log_path == NULL) {
+        return cli_usage_error(self, "missing LOG", NULL, NULL);
+    }
+    if (a.out_path == NULL) {
+        return cli_usage_error(self, "missing -o STREAM", NULL, NULL);
+    }
+    return import(&a);
+}
