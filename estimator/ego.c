@@ -120,6 +120,13 @@ static bool better(itcp_status_t sa, const itcp_result_t *a, itcp_status_t sb,
 ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const lms_scan_t *scan,
                          uint32_t time_us, ego_output_t *out)
 {
+    return ego_process_with_prior(state, params, scan, time_us, NULL, out);
+}
+
+ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *params,
+                                    const lms_scan_t *scan, uint32_t time_us,
+                                    const ego_pose_t *prior, ego_output_t *out)
+{
     if (state == NULL || params == NULL || scan == NULL || out == NULL) {
         return EGO_ERR_ARG;
     }
@@ -145,7 +152,8 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
     }
     out->dt_us = dt;
     const ego_scan_t *last = &state->slot[state->last];
-    const ego_pose_t predicted = predict(state, dt);
+    const ego_pose_t predicted = (prior != NULL) ? *prior : predict(state, dt);
+    const bool have_prediction = prior != NULL || state->motion_dt_us != 0u;
 
     bool matched = false;
     if (current->count >= params->min_points && last->count >= params->min_points) {
@@ -154,9 +162,14 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
                        params->merge_bins, &hm);
         /* Candidates: the histogram's peaks, plus the predicted rotation
          * when the histogram is not trustworthy. */
-        fx_bam32_t rotation[HIST_MAX_CANDIDATES + 1u];
-        fx_q2_30_t correlation[HIST_MAX_CANDIDATES + 1u];
+        fx_bam32_t rotation[HIST_MAX_CANDIDATES + 2u];
+        fx_q2_30_t correlation[HIST_MAX_CANDIDATES + 2u];
         uint8_t n = 0u;
+        if (prior != NULL) { /* the prior's rotation first */
+            rotation[n] = prior->theta;
+            correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+            n++;
+        }
         for (uint8_t k = 0u; k < hm.count; k++) {
             rotation[n] = hm.candidate[k].rotation;
             correlation[n] = hm.candidate[k].correlation;
@@ -164,9 +177,11 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
         }
         if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
             out->flags |= EGO_FLAG_LOW_CORRELATION;
-            rotation[n] = predicted.theta;
-            correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
-            n++;
+            if (prior == NULL) {
+                rotation[n] = predicted.theta;
+                correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+                n++;
+            }
         }
         const fx_bam32_t main_direction = hist_main_direction(&state->hist[state->last]);
         itcp_result_t best;
@@ -182,10 +197,10 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
             /* Cheap first: from the prediction. The coarse search only when
              * that did not give a good match (or there is no prediction). */
             if (params->use_coarse &&
-                (state->motion_dt_us == 0u || !good_enough(params, st, &r, current, false))) {
+                (!have_prediction || !good_enough(params, st, &r, current, false))) {
                 coarse_params_t cp = params->coarse;
-                if (state->motion_dt_us == 0u) {
-                    cp.window = params->coarse_window_first; /* no prediction yet */
+                if (!have_prediction) {
+                    cp.window = params->coarse_window_first;
                 }
                 ego_pose_t found = start;
                 uint64_t score = 0u;

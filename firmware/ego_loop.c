@@ -114,7 +114,11 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
     const uint32_t t_us = loop->config.use_clock ? arrival_us - loop->first_time_us
                                                  : k * loop->period_us;
     ego_output_t out;
-    if (ego_process(&loop->ego, &loop->config.ego, &loop->scan, t_us, &out) != EGO_OK) {
+    ego_pose_t prior;
+    const bool has_prior = k > 0u && loop->config.prior != NULL &&
+                           loop->config.prior(loop->config.prior_ctx, k, &prior);
+    if (ego_process_with_prior(&loop->ego, &loop->config.ego, &loop->scan, t_us,
+                               has_prior ? &prior : NULL, &out) != EGO_OK) {
         loop->stats.decode_errors++;
         return;
     }

@@ -51,8 +51,14 @@ typedef struct {
 typedef void (*ego_loop_observer_fn)(void *ctx, uint32_t scan, uint32_t time_us,
                                      const ego_output_t *out);
 
+/* Optional: a motion prior for scan k (its pose in the frame of scan
+ * k - 1), e.g. from wheel odometry; return false when there is none. */
+typedef bool (*ego_loop_prior_fn)(void *ctx, uint32_t scan, ego_pose_t *prior);
+
 typedef struct {
     ego_params_t ego;
+    ego_loop_prior_fn prior;       /* NULL: none */
+    void *prior_ctx;
     ego_loop_observer_fn observer; /* NULL: none */
     void *observer_ctx;
     /* Time of scan k: k * period_us when nonzero; 0 with use_clock false:

@@ -1,11 +1,14 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
- * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH] [--pairs OUT] [--tum OUT]`:
+ * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
+ * [--tum OUT]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
  *
+ * --prior FILE gives a motion prior per scan (lines `i j dx dy dtheta`, as
+ * `import-carmen --odometry` writes them; ego.h says how it is used).
  * --pairs OUT also writes `i j dx dy dtheta` per consecutive pair (scan
  * numbers count decoded scans; the format relpose_eval.py reads); a
  * restart (flag 1) has no relative pose and gives no line. --tum OUT
@@ -27,6 +30,9 @@ typedef struct {
     int failed; /* a read error happened */
     int write_failed;
     FILE *pairs;  /* --pairs, or NULL */
+    ego_pose_t *prior;     /* --prior: prior[j] for scan j, or NULL */
+    uint8_t *has_prior;
+    uint32_t prior_count;
     FILE *tum;    /* --tum, or NULL */
     double x, y, theta; /* integrated pose for --tum */
 } replay_io_t;
@@ -62,6 +68,85 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
             io->write_failed = 1;
         }
     }
+}
+
+static bool give_prior(void *ctx, uint32_t scan, ego_pose_t *prior)
+{
+    const replay_io_t *io = ctx;
+    if (io->prior == NULL || scan >= io->prior_count || !io->has_prior[scan]) {
+        return false;
+    }
+    *prior = io->prior[scan];
+    return true;
+}
+
+/* Reads --prior FILE: lines `i j dx dy dtheta` (metres, radians), j = i + 1
+ * used as the prior of scan j; '#' lines and other pairs are ignored.
+ * Returns 0, or -1 after a message. */
+static int load_priors(const char *path, replay_io_t *io)
+{
+    enum { MAX_PRIOR_SCANS = 1000000 };
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        cli_file_error("cannot open ", path, strerror(errno));
+        return -1;
+    }
+    char line[512];
+    unsigned long line_no = 0u;
+    int rc = 0;
+    while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
+        line_no++;
+        if (line[0] == '#' || line[0] == '\n') {
+            continue;
+        }
+        char *end = NULL;
+        const unsigned long i = strtoul(line, &end, 10);
+        char *p = end;
+        const unsigned long j = strtoul(p, &end, 10);
+        double v[3];
+        int ok = end != p;
+        for (int k = 0; k < 3 && ok; k++) {
+            p = end;
+            v[k] = strtod(p, &end);
+            ok = end != p && isfinite(v[k]) && fabs(v[k]) < 1000.0;
+        }
+        if (!ok || j >= MAX_PRIOR_SCANS) {
+            char where[64];
+            (void)snprintf(where, sizeof where, "line %lu is not 'i j dx dy dtheta'", line_no);
+            cli_file_error("bad prior in ", path, where);
+            rc = -1;
+            break;
+        }
+        if (j != i + 1u) {
+            continue;
+        }
+        if (j >= io->prior_count) {
+            const uint32_t count = (uint32_t)(j + 1u) * 2u;
+            ego_pose_t *grown = realloc(io->prior, count * sizeof *grown);
+            uint8_t *flags = realloc(io->has_prior, count);
+            if (grown != NULL) {
+                io->prior = grown;
+            }
+            if (flags != NULL) {
+                io->has_prior = flags;
+            }
+            if (grown == NULL || flags == NULL) {
+                cli_error("out of memory reading the priors");
+                rc = -1;
+                break;
+            }
+            memset(&io->has_prior[io->prior_count], 0, count - io->prior_count);
+            io->prior_count = count;
+        }
+        io->prior[j].x = (fx_q16_16_t)lround(v[0] * 65536.0);
+        io->prior[j].y = (fx_q16_16_t)lround(v[1] * 65536.0);
+        double turns = v[2] / (2.0 * 3.14159265358979323846);
+        turns -= floor(turns);
+        io->prior[j].theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
+        io->has_prior[j] = 1u;
+    }
+    (void)fclose(f);
+    return rc;
 }
 
 /* Opens an output file for --pairs / --tum; NULL after a message. */
@@ -192,6 +277,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     ego_loop_defaults(&config);
     const char *path = NULL;
     const char *pairs_path = NULL;
+    const char *prior_path = NULL;
     const char *tum_path = NULL;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -211,6 +297,12 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             if (value == NULL || parse_mount(value, &config.ego.prep) != 0) {
                 return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
             }
+            i++;
+        } else if (strcmp(arg, "--prior") == 0) {
+            if (value == NULL) {
+                return cli_usage_error(self, "missing file after", arg, NULL);
+            }
+            prior_path = value;
             i++;
         } else if (strcmp(arg, "--pairs") == 0 || strcmp(arg, "--tum") == 0) {
             if (value == NULL) {
@@ -248,6 +340,11 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
 
     replay_io_t io;
     memset(&io, 0, sizeof io);
+    if (prior_path != NULL && load_priors(prior_path, &io) != 0) {
+        free(io.prior);
+        free(io.has_prior);
+        return CLI_EXIT_RUNTIME;
+    }
     const char *shown = (strcmp(path, "-") == 0) ? "<stdin>" : path;
     const int open_error = stream_file_open(&io.file, path);
     if (open_error != 0) {
@@ -258,6 +355,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         (tum_path != NULL && (io.tum = open_output(tum_path)) == NULL)) {
         (void)close_output(io.pairs, pairs_path);
         stream_file_close(&io.file);
+        free(io.prior);
+        free(io.has_prior);
         return CLI_EXIT_RUNTIME;
     }
     if (io.tum != NULL) { /* the first scan, at the origin */
@@ -265,12 +364,16 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     }
     config.observer = observe;
     config.observer_ctx = &io;
+    config.prior = give_prior;
+    config.prior_ctx = &io;
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, &io};
     ego_loop_init(&loop, &config);
     while (ego_loop_step(&loop, &hal) != EGO_LOOP_END) {
     }
     const int read_error = io.file.error;
     stream_file_close(&io.file);
+    free(io.prior);
+    free(io.has_prior);
     const int closed = close_output(io.pairs, pairs_path) | close_output(io.tum, tum_path);
     if (io.failed) {
         cli_file_error("error reading ", shown, strerror(read_error));

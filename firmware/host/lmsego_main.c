@@ -17,7 +17,8 @@ static const cli_command_t commands[] = {
     {"stats", "FILE", "count telegrams, scans and framing errors of a recorded stream", cmd_stats},
     {"scans", "[--mode HEX] FILE", "print every decoded B0 scan, one line per scan", cmd_scans},
     {"replay",
-     "[--period S] [--mount X,Y,DEG] [--mode HEX] [--icp] [--hist KIND] [--pairs OUT] [--tum OUT] FILE",
+     "[--period S] [--mount X,Y,DEG] [--mode HEX] [--icp] [--hist KIND] [--prior FILE] "
+     "[--pairs OUT] [--tum OUT] FILE",
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
     {"import-carmen", "LOG -o STREAM [--odometry OUT] [--no-return M]",
      "convert a CARMEN laser log (plain or .gz) into an LMS 2xx telegram stream",
