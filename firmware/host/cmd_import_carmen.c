@@ -163,18 +163,16 @@ typedef struct {
     double no_return; /* 0: the largest reading */
 } import_args_t;
 
-/* Pass 1: the largest reading, and whether every reading below the
- * no-return code is a whole number of centimetres. */
-static int survey(gzFile in, char *line, double *largest, int *whole_cm, unsigned long *lines,
-                  double no_return)
+/* Pass 1: the largest reading, and the smallest reading that is not a
+ * whole number of centimetres (+infinity when there is none). Returns -1
+ * for a line longer than the buffer or binary data. */
+static int survey(gzFile in, char *line, double *largest, double *smallest_not_cm)
 {
     static char *tok[LINE_MAX_BYTES / 2u];
     static laser_t l;
     *largest = 0.0;
-    *whole_cm = 1;
-    *lines = 0u;
+    *smallest_not_cm = INFINITY;
     while (gzgets(in, line, (int)LINE_MAX_BYTES) != NULL) {
-        (*lines)++;
         if (strchr(line, '\n') == NULL && !gzeof(in)) {
             return -1; /* a line longer than the buffer, or a NUL byte */
         }
@@ -183,12 +181,10 @@ static int survey(gzFile in, char *line, double *largest, int *whole_cm, unsigne
             continue;
         }
         for (unsigned k = 0u; k < l.n; k++) {
-            *largest = fmax(*largest, l.range[k]);
-        }
-        for (unsigned k = 0u; k < l.n; k++) {
             const double cm = l.range[k] * 100.0;
-            if ((no_return <= 0.0 || l.range[k] < no_return) && fabs(cm - round(cm)) > 1e-6) {
-                *whole_cm = 0;
+            *largest = fmax(*largest, l.range[k]);
+            if (fabs(cm - round(cm)) > 1e-6) {
+                *smallest_not_cm = fmin(*smallest_not_cm, l.range[k]);
             }
         }
     }
@@ -209,21 +205,17 @@ static int import(const import_args_t *a)
         return CLI_EXIT_RUNTIME;
     }
     double largest = 0.0;
-    int whole_cm = 1;
-    unsigned long lines = 0u;
-    if (survey(in, line, &largest, &whole_cm, &lines, a->no_return) != 0) {
+    double smallest_not_cm = INFINITY;
+    if (survey(in, line, &largest, &smallest_not_cm) != 0) {
         (void)gzclose(in);
         cli_file_error("not a CARMEN text log: ", a->log_path,
                        "a line over 64 KiB, or binary data");
         return CLI_EXIT_RUNTIME;
     }
     const double no_return = (a->no_return > 0.0) ? a->no_return : largest;
-    /* Pass 1 could not know the code when it was the largest reading: check
-     * the whole-centimetre rule again against it. */
-    if (a->no_return <= 0.0) {
-        (void)gzrewind(in);
-        (void)survey(in, line, &largest, &whole_cm, &lines, no_return);
-    }
+    /* Centimetres lose nothing when every real reading (below the
+     * no-return code) is a whole number of them. */
+    const int whole_cm = smallest_not_cm >= no_return;
     (void)gzrewind(in);
 
     FILE *out = fopen(a->out_path, "wb");

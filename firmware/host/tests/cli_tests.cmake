@@ -154,3 +154,10 @@ lmsego_cli_test(import_carmen_binary ARGS import-carmen ${LMSEGO_CLI_DATA}/vecto
 lmsego_cli_test(import_carmen_text_without_lasers ARGS import-carmen ${LMSEGO_CARMEN}/README.md
     -o ${CMAKE_CURRENT_BINARY_DIR}/empty.lms
     OPTIONS -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=scans=0)
+# A reading that is not a whole centimetre: millimetres in measuring mode 0F,
+# no-return (the largest reading, 9.99 m) as 0.
+add_test(NAME cli_import_carmen_mm
+    COMMAND ${CMAKE_COMMAND} -E env sh -c "\"$0\" import-carmen \"$1\" -o \"$2\" 2>&1 && \"$0\" scans --mode 0F \"$2\""
+            $<TARGET_FILE:lmsego> ${LMSEGO_CLI_DATA}/mm.carmen ${CMAKE_CURRENT_BINARY_DIR}/mm.lms)
+set_tests_properties(cli_import_carmen_mm PROPERTIES LABELS "cli"
+    PASS_REGULAR_EXPRESSION "unit=mm no_return=9\\.99.*\n0 1 181 1235 0 2000 2000")
