@@ -1,6 +1,8 @@
 /* cli.c - see cli.h. */
 #include "cli.h"
 
+#include "lms_proto.h"
+
 #include <stdio.h>
 #include <string.h>
 
@@ -77,4 +79,47 @@ bool cli_finish_stdout(void)
         return false;
     }
     return true;
+}
+
+int cli_parse_meas_mode(const char *text, uint8_t *mode)
+{
+    if (text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
+        text += 2;
+    }
+    const size_t digits = strlen(text);
+    if (digits == 0u || digits > 2u) {
+        return -1;
+    }
+    unsigned value = 0u;
+    for (size_t i = 0u; i < digits; i++) {
+        const char c = text[i];
+        unsigned digit;
+        if (c >= '0' && c <= '9') {
+            digit = (unsigned)(c - '0');
+        } else if (c >= 'a' && c <= 'f') {
+            digit = (unsigned)(c - 'a') + 10u;
+        } else if (c >= 'A' && c <= 'F') {
+            digit = (unsigned)(c - 'A') + 10u;
+        } else {
+            return -1;
+        }
+        value = value * 16u + digit;
+    }
+    if (value > (unsigned)LMS_MEAS_32M_FIELD_A && value != (unsigned)LMS_MEAS_32M_IMMEDIATE) {
+        return -1;
+    }
+    *mode = (uint8_t)value;
+    return 0;
+}
+
+int cli_take_file(const cli_command_t *cmd, const char *arg, const char **path)
+{
+    if (arg[0] == '-' && arg[1] != '\0') {
+        return cli_usage_error(cmd, "unknown option", arg, NULL);
+    }
+    if (*path != NULL) {
+        return cli_usage_error(cmd, "unexpected argument", arg, NULL);
+    }
+    *path = arg;
+    return CLI_EXIT_OK;
 }

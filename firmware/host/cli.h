@@ -9,6 +9,7 @@
 #define LMSEGO_CLI_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 /* Exit codes of lmsego and of every subcommand. */
 #define CLI_EXIT_OK 0      /* success */
@@ -50,5 +51,14 @@ bool cli_is_help(const char *arg);
 
 /* Flushes stdout; on a write error prints a message and returns false. */
 bool cli_finish_stdout(void);
+
+/* The --mode argument: one or two hex digits, optional 0x prefix, and only
+ * the range modes 00..06 and 0F. Returns 0 on success. */
+int cli_parse_meas_mode(const char *text, uint8_t *mode);
+
+/* A non-option argument: the command's one file (stdin is "-"). An option
+ * it does not know, or a second file, is a usage error (its exit code is
+ * returned); CLI_EXIT_OK when *path took arg. */
+int cli_take_file(const cli_command_t *cmd, const char *arg, const char **path);
 
 #endif /* LMSEGO_CLI_H */

@@ -358,12 +358,11 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
                 return cli_usage_error(self, "invalid --no-return", value, "metres, > 0");
             }
             i++;
-        } else if (arg[0] == '-' && arg[1] != '\0') {
-            return cli_usage_error(self, "unknown option", arg, NULL);
-        } else if (a.log_path != NULL) {
-            return cli_usage_error(self, "unexpected argument", arg, NULL);
         } else {
-            a.log_path = arg;
+            const int rc = cli_take_file(self, arg, &a.log_path);
+            if (rc != CLI_EXIT_OK) {
+                return rc;
+            }
         }
     }
     if (a.log_path == NULL) {

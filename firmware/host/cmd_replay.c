@@ -243,18 +243,6 @@ static int parse_mount(const char *text, ego_prep_params_t *prep)
     return 0;
 }
 
-static int parse_mode(const char *text, uint8_t *mode)
-{
-    char *end = NULL;
-    const unsigned long v = strtoul(text, &end, 16);
-    if (end == text || *end != '\0' || v > 0xFFu || lms_meas_mode_bits((uint8_t)v) == 0u ||
-        v == LMS_MEAS_REFLECTIVITY) {
-        return -1;
-    }
-    *mode = (uint8_t)v;
-    return 0;
-}
-
 static int parse_hist(const char *text, hist_kind_t *kind)
 {
     static const struct {
@@ -322,16 +310,15 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             }
             i++;
         } else if (strcmp(arg, "--mode") == 0) {
-            if (value == NULL || parse_mode(value, &config.ego.prep.meas_mode) != 0) {
+            if (value == NULL || cli_parse_meas_mode(value, &config.ego.prep.meas_mode) != 0) {
                 return cli_usage_error(self, "invalid --mode", value, "expected 00..06 or 0F");
             }
             i++;
-        } else if (arg[0] == '-' && arg[1] != '\0') {
-            return cli_usage_error(self, "unknown option", arg, NULL);
-        } else if (path != NULL) {
-            return cli_usage_error(self, "unexpected argument", arg, NULL);
         } else {
-            path = arg;
+            const int rc = cli_take_file(self, arg, &path);
+            if (rc != CLI_EXIT_OK) {
+                return rc;
+            }
         }
     }
     if (path == NULL) {

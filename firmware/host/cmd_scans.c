@@ -24,39 +24,6 @@ typedef struct {
     lms_scan_t scan;     /* scratch for the decoder */
 } scans_print_t;
 
-/* Parses the --mode argument: one or two hex digits, optional 0x prefix,
- * and only the range modes 00..06 and 0F. Returns 0 on success. */
-static int parse_meas_mode(const char *text, uint8_t *mode)
-{
-    if (text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
-        text += 2;
-    }
-    const size_t digits = strlen(text);
-    if (digits == 0u || digits > 2u) {
-        return -1;
-    }
-    unsigned value = 0u;
-    for (size_t i = 0u; i < digits; i++) {
-        const char c = text[i];
-        unsigned digit;
-        if (c >= '0' && c <= '9') {
-            digit = (unsigned)(c - '0');
-        } else if (c >= 'a' && c <= 'f') {
-            digit = (unsigned)(c - 'a') + 10u;
-        } else if (c >= 'A' && c <= 'F') {
-            digit = (unsigned)(c - 'A') + 10u;
-        } else {
-            return -1;
-        }
-        value = value * 16u + digit;
-    }
-    if (value > (unsigned)LMS_MEAS_32M_FIELD_A && value != (unsigned)LMS_MEAS_32M_IMMEDIATE) {
-        return -1;
-    }
-    *mode = (uint8_t)value;
-    return 0;
-}
-
 static int print_scan(void *ctx, const uint8_t *telegram, size_t len)
 {
     scans_print_t *p = ctx;
@@ -104,11 +71,11 @@ int cmd_scans(const cli_command_t *self, int argc, char **argv)
                 return cli_usage_error(self, "--mode needs a value", NULL, NULL);
             }
             i++;
-            if (parse_meas_mode(argv[i], &meas_mode) != 0) {
+            if (cli_parse_meas_mode(argv[i], &meas_mode) != 0) {
                 return cli_usage_error(self, "invalid --mode", argv[i], "expected 00..06 or 0F");
             }
         } else if (!options_done && strncmp(arg, "--mode=", 7u) == 0) {
-            if (parse_meas_mode(arg + 7, &meas_mode) != 0) {
+            if (cli_parse_meas_mode(arg + 7, &meas_mode) != 0) {
                 return cli_usage_error(self, "invalid --mode", arg + 7, "expected 00..06 or 0F");
             }
         } else if (!options_done && arg[0] == '-' && arg[1] != '\0') {
