@@ -16,45 +16,105 @@ void coarse_defaults(coarse_params_t *params)
 {
     memset(params, 0, sizeof *params);
     params->window = FX_Q16_16_C(0.6);
-    params->step = FX_Q16_16_C(0.2);
+    params->step = FX_Q16_16_C(0.1);
     params->fine_step = FX_Q16_16_C(0.05);
     params->sigma = FX_Q16_16_C(0.10);
-    params->rotation_steps = 1u;
+    params->rotation_steps = 2u;
     params->rotation_step = FX_BAM32_DEG_C(2.0);
     params->sample_points = 48u;
+    params->main_tolerance = FX_BAM32_DEG_C(10.0);
 }
 
-/* The sample: indices of current points spread evenly over the scan. */
+/* The sample: indices of current points, in two groups scored with equal
+ * total weight (the eq. 10 idea applied to the search): points whose
+ * tangent lies along the main direction, and all others. In a corridor
+ * the walls say nothing about the motion along it; the few points on
+ * door frames and end walls do, and an even sample over the scan would
+ * hold only one or two of them. */
 typedef struct {
-    uint16_t count;
-    uint16_t index[COARSE_MAX_SAMPLE];
+    uint16_t count[2];
+    uint16_t index[2][COARSE_MAX_SAMPLE];
 } sample_t;
 
-static void take_sample(const ego_scan_t *cur, uint16_t wanted, sample_t *s)
+/* Same rule as ITCP's: tangent directions modulo 180 deg. */
+static bool on_main(const ego_scan_t *cur, uint16_t i, fx_bam32_t main_dir, fx_bam32_t tol)
+{
+    if ((cur->flags[i] & EGO_POINT_HAS_TANGENT) == 0u) {
+        return false;
+    }
+    const uint32_t d = (cur->tangent[i] - main_dir) & (FX_BAM32_HALF - 1u);
+    const uint32_t diff = (d > FX_BAM32_QUARTER) ? FX_BAM32_HALF - d : d;
+    return diff <= tol;
+}
+
+#define GROUP_ALL 2u /* take_group: every point, into group 0 */
+
+/* Takes `wanted` indices spread evenly over the points of group g (0: on
+ * the main direction, 1: the others, GROUP_ALL: all points, stored as
+ * group 0). */
+static void take_group(const ego_scan_t *cur, fx_bam32_t main_dir, fx_bam32_t tol, unsigned g,
+                       uint16_t in_group, uint16_t wanted, sample_t *s)
+{
+    const unsigned slot = (g == GROUP_ALL) ? 0u : g;
+    s->count[slot] = 0u;
+    if (in_group == 0u || wanted == 0u) {
+        return;
+    }
+    const uint32_t n = (in_group < wanted) ? in_group : wanted;
+    uint32_t seen = 0u; /* group members passed so far */
+    uint32_t next = 0u; /* sample slot to fill */
+    for (uint16_t i = 0u; i < cur->count && next < n; i++) {
+        if (g != GROUP_ALL && (on_main(cur, i, main_dir, tol) ? 0u : 1u) != g) {
+            continue;
+        }
+        /* Slot k takes the group's member number (k in_group + in_group / 2) / n. */
+        if (seen == (next * in_group + in_group / 2u) / n) {
+            s->index[slot][s->count[slot]++] = i;
+            next++;
+        }
+        seen++;
+    }
+}
+
+static void take_sample(const ego_scan_t *cur, fx_bam32_t main_dir, fx_bam32_t tol,
+                        uint16_t wanted, sample_t *s)
 {
     if (wanted > COARSE_MAX_SAMPLE) {
         wanted = COARSE_MAX_SAMPLE;
     }
-    s->count = 0u;
-    if (cur->count == 0u || wanted == 0u) {
+    uint16_t members[2] = {0u, 0u};
+    for (uint16_t i = 0u; i < cur->count; i++) {
+        members[on_main(cur, i, main_dir, tol) ? 0u : 1u]++;
+    }
+    /* A group under a fifth of the points is too small to be weighed on
+     * its own (its few points' fit is noise): one even sample over all. */
+    const uint16_t smaller = (members[0] < members[1]) ? members[0] : members[1];
+    if (5u * (uint32_t)smaller < (uint32_t)members[0] + members[1]) {
+        take_group(cur, main_dir, tol, GROUP_ALL, cur->count, wanted, s);
+        s->count[1] = 0u;
         return;
     }
-    const uint32_t n = (cur->count < wanted) ? cur->count : wanted;
-    for (uint32_t k = 0u; k < n; k++) {
-        s->index[s->count++] = (uint16_t)((k * cur->count + cur->count / 2u) / n);
+    /* Half each. */
+    uint16_t want[2] = {(uint16_t)(wanted / 2u), (uint16_t)(wanted - wanted / 2u)};
+    for (uint8_t g = 0u; g < 2u; g++) {
+        const uint8_t o = (uint8_t)(1u - g);
+        if (members[g] < want[g]) {
+            want[o] = (uint16_t)(want[o] + want[g] - members[g]);
+            want[g] = members[g];
+        }
     }
+    take_group(cur, main_dir, tol, 0u, members[0], want[0], s);
+    take_group(cur, main_dir, tol, 1u, members[1], want[1], s);
 }
 
-static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *s,
-                           const ego_pose_t *pose, fx_q16_16_t sigma)
+static uint64_t score_group(const ego_scan_t *last, const ego_scan_t *cur, const uint16_t *index,
+                            uint16_t count, const ego_pose_t *pose, fx_q2_30_t sn, fx_q2_30_t cs,
+                            fx_q16_16_t sigma)
 {
-    fx_q2_30_t sn;
-    fx_q2_30_t cs;
-    fx_sincos(pose->theta, &sn, &cs);
     const uint64_t sigma_sq = (uint64_t)((int64_t)sigma * sigma);
     uint64_t score = 0u;
-    for (uint16_t k = 0u; k < s->count; k++) {
-        const uint16_t i = s->index[k];
+    for (uint16_t k = 0u; k < count; k++) {
+        const uint16_t i = index[k];
         fx_q16_16_t qx;
         fx_q16_16_t qy;
         ego_pose_apply(pose, sn, cs, cur->x[i], cur->y[i], &qx, &qy);
@@ -64,6 +124,25 @@ static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const 
         }
     }
     return score;
+}
+
+/* Each group's sum weighted by the other group's size: equal total weight
+ * per group. Bound: 2 * 128 points * sigma^2 (< 2^32 for sigma < 256 m)
+ * * 128 < 2^47. */
+static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *s,
+                           const ego_pose_t *pose, fx_q16_16_t sigma)
+{
+    fx_q2_30_t sn;
+    fx_q2_30_t cs;
+    fx_sincos(pose->theta, &sn, &cs);
+    const uint64_t main_score =
+        score_group(last, cur, s->index[0], s->count[0], pose, sn, cs, sigma);
+    const uint64_t other_score =
+        score_group(last, cur, s->index[1], s->count[1], pose, sn, cs, sigma);
+    if (s->count[0] == 0u || s->count[1] == 0u) {
+        return main_score + other_score;
+    }
+    return main_score * s->count[1] + other_score * s->count[0];
 }
 
 static int32_t steps_in(fx_q16_16_t half, fx_q16_16_t step)
@@ -94,8 +173,9 @@ static void grid(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *
     }
 }
 
-void coarse_search(const ego_scan_t *last, const ego_scan_t *current, const ego_pose_t *centre,
-                   const coarse_params_t *params, ego_pose_t *best, uint64_t *score)
+void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t main_direction,
+                   const ego_pose_t *centre, const coarse_params_t *params, ego_pose_t *best,
+                   uint64_t *score)
 {
     *best = *centre;
     *score = 0u;
@@ -103,7 +183,9 @@ void coarse_search(const ego_scan_t *last, const ego_scan_t *current, const ego_
         return;
     }
     sample_t s;
-    take_sample(current, params->sample_points, &s);
+    /* The main direction in the current scan's frame. */
+    take_sample(current, main_direction - centre->theta, params->main_tolerance,
+                params->sample_points, &s);
     /* The score's distance scale follows the grid: with a finer scale than
      * the step, the grid point nearest the truth (up to 0.7 steps away)
      * may score below a wrong pose that happens to fit a few points. */

@@ -38,13 +38,15 @@ typedef struct {
     uint8_t rotation_steps;    /* rotations tried on each side of the centre's */
     fx_bam32_t rotation_step;
     uint16_t sample_points;    /* current points scored per candidate */
+    fx_bam32_t main_tolerance; /* tangent this close to the main direction: main group */
 } coarse_params_t;
 
 void coarse_defaults(coarse_params_t *params);
 
 /* Searches around *centre; *best gets the best pose, *score its score
  * (0: nothing matched anywhere; *best is then *centre). */
-void coarse_search(const ego_scan_t *last, const ego_scan_t *current, const ego_pose_t *centre,
-                   const coarse_params_t *params, ego_pose_t *best, uint64_t *score);
+void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t main_direction,
+                   const ego_pose_t *centre, const coarse_params_t *params, ego_pose_t *best,
+                   uint64_t *score);
 
 #endif /* COARSE_H */

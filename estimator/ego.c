@@ -18,6 +18,8 @@ void ego_defaults(ego_params_t *params)
     params->use_coarse = true;
     coarse_defaults(&params->coarse);
     params->coarse_window_first = FX_Q16_16_C(4.0);
+    params->coarse_step_first = FX_Q16_16_C(0.2);
+    params->coarse_window_wide = FX_Q16_16_C(1.6);
     params->accept_fraction = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 6);
     params->stop_fraction = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 8);
     params->max_rotation_bins = (uint16_t)(HIST_BINS / 4u); /* 45 deg */
@@ -25,6 +27,9 @@ void ego_defaults(ego_params_t *params)
     params->min_correlation = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 3);
     params->min_points = 20u;
     params->max_gap_us = 1000000u;
+    params->trust_translation = FX_Q16_16_C(0.10);
+    params->prior_margin = (fx_q2_30_t)(FX_Q2_30_ONE / 10);
+    params->trust_rotation = FX_BAM32_DEG_C(3.0);
 }
 
 void ego_reset(ego_state_t *state)
@@ -34,6 +39,7 @@ void ego_reset(ego_state_t *state)
     state->last_time_us = 0u;
     memset(&state->motion, 0, sizeof state->motion);
     state->motion_dt_us = 0u;
+    state->predictable = false;
 }
 
 /* The last motion scaled to a scan interval of dt_us. */
@@ -50,6 +56,18 @@ static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
     p.theta = (fx_bam32_t)(uint32_t)fx_sat_s32(
         (int64_t)fx_bam32_diff(state->motion.theta, 0u) * num / den);
     return p;
+}
+
+/* Is the estimate within the prediction's trust distance of it. */
+static bool close_to(const ego_pose_t *estimate, const ego_pose_t *predicted,
+                     const ego_params_t *params)
+{
+    const int64_t dx = (int64_t)estimate->x - predicted->x;
+    const int64_t dy = (int64_t)estimate->y - predicted->y;
+    const int64_t r = params->trust_translation;
+    const int64_t dtheta = fx_bam32_diff(estimate->theta, predicted->theta);
+    const int64_t abs_dtheta = (dtheta < 0) ? -dtheta : dtheta;
+    return dx * dx + dy * dy <= r * r && abs_dtheta <= (int64_t)params->trust_rotation;
 }
 
 static void set_velocities(ego_output_t *out)
@@ -90,20 +108,66 @@ static itcp_status_t register_from(const ego_scan_t *last, const ego_scan_t *cur
     return itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
 }
 
-/* Is a registration good enough to stop looking: converged with at least
- * accept (or, for skipping the other rotation candidates, stop) of the
- * current points as inliers. */
-static bool good_enough(const ego_params_t *params, itcp_status_t st, const itcp_result_t *r,
-                        const ego_scan_t *current, bool to_stop)
+/* Is one group too small to be judged on its own: under a fifth of the
+ * points (a few points' fit is noise, not evidence). */
+static bool groups_lopsided(const itcp_result_t *r)
 {
-    const fx_q2_30_t fraction = to_stop ? params->stop_fraction : params->accept_fraction;
-    return st == ITCP_OK && r->converged &&
-           ((int64_t)r->inliers << 30) >= (int64_t)fraction * current->count;
+    const uint32_t p0 = r->group_points[0];
+    const uint32_t p1 = r->group_points[1];
+    const uint32_t smaller = (p0 < p1) ? p0 : p1;
+    return 5u * smaller < p0 + p1;
 }
 
-/* Is a better than b: registered, more inliers, then a smaller residual. */
+/* The share over all points together. */
+static fx_q2_30_t pooled_share(const itcp_result_t *r)
+{
+    const int64_t p0 = r->group_points[0];
+    const int64_t p1 = r->group_points[1];
+    if (p0 + p1 == 0) {
+        return 0;
+    }
+    return (fx_q2_30_t)(((int64_t)r->group_fit[0] * p0 + (int64_t)r->group_fit[1] * p1) /
+                        (p0 + p1));
+}
+
+/* The smaller inlier share of the two groups (main direction, others).
+ * Judged per group because in a corridor the walls fit at any position
+ * along it: a pose that fits the walls but not the few door frames and end
+ * walls is wrong, however many inliers it has. */
+static fx_q2_30_t worst_share(const itcp_result_t *r)
+{
+    if (groups_lopsided(r)) {
+        return pooled_share(r);
+    }
+    const fx_q2_30_t a = r->group_fit[0];
+    const fx_q2_30_t b = r->group_fit[1];
+    return (a < b) ? a : b;
+}
+
+/* Mean inlier share of the two groups: equal weight per group, as in
+ * eq. 10. */
+static fx_q2_30_t balanced_share(const itcp_result_t *r)
+{
+    if (groups_lopsided(r)) {
+        return pooled_share(r);
+    }
+    return (fx_q2_30_t)(((int64_t)r->group_fit[0] + r->group_fit[1]) / 2);
+}
+
+/* Is a registration good enough to stop looking: converged with at least
+ * accept (or, for skipping the other rotation candidates, stop) of each
+ * group's points as inliers. */
+static bool good_enough(const ego_params_t *params, itcp_status_t st, const itcp_result_t *r,
+                        bool to_stop)
+{
+    const fx_q2_30_t fraction = to_stop ? params->stop_fraction : params->accept_fraction;
+    return st == ITCP_OK && r->converged && worst_share(r) >= fraction;
+}
+
+/* Is a better than b: registered, a balanced inlier share larger by more
+ * than margin, then (equal shares, no margin) a smaller residual. */
 static bool better(itcp_status_t sa, const itcp_result_t *a, itcp_status_t sb,
-                   const itcp_result_t *b)
+                   const itcp_result_t *b, fx_q2_30_t margin)
 {
     if (sa != ITCP_OK) {
         return false;
@@ -111,8 +175,10 @@ static bool better(itcp_status_t sa, const itcp_result_t *a, itcp_status_t sb,
     if (sb != ITCP_OK) {
         return true;
     }
-    if (a->inliers != b->inliers) {
-        return a->inliers > b->inliers;
+    const fx_q2_30_t qa = balanced_share(a);
+    const fx_q2_30_t qb = balanced_share(b);
+    if (margin > 0 || qa != qb) {
+        return (int64_t)qa > (int64_t)qb + margin;
     }
     return a->residual < b->residual;
 }
@@ -153,7 +219,9 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     out->dt_us = dt;
     const ego_scan_t *last = &state->slot[state->last];
     const ego_pose_t predicted = (prior != NULL) ? *prior : predict(state, dt);
-    const bool have_prediction = prior != NULL || state->motion_dt_us != 0u;
+    /* The last motion predicts this one only if it predicted the last. */
+    const bool known_motion = state->motion_dt_us != 0u;
+    const bool have_prediction = prior != NULL || (known_motion && state->predictable);
 
     bool matched = false;
     if (current->count >= params->min_points && last->count >= params->min_points) {
@@ -189,32 +257,41 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         memset(&best, 0, sizeof best);
         uint8_t best_k = 0u;
         uint8_t tried = 0u;
-        for (uint8_t k = 0u; k < n && !good_enough(params, best_status, &best, current, true);
+        for (uint8_t k = 0u; k < n && !good_enough(params, best_status, &best, true);
              k++) {
             itcp_result_t r;
             const ego_pose_t start = {rotation[k], predicted.x, predicted.y};
             itcp_status_t st = register_from(last, current, main_direction, &start, params, &r);
             /* Cheap first: from the prediction. The coarse search only when
-             * that did not give a good match (or there is no prediction). */
-            if (params->use_coarse &&
-                (!have_prediction || !good_enough(params, st, &r, current, false))) {
-                coarse_params_t cp = params->coarse;
-                if (!have_prediction) {
-                    cp.window = params->coarse_window_first;
-                }
-                ego_pose_t found = start;
-                uint64_t score = 0u;
-                coarse_search(last, current, &start, &cp, &found, &score);
-                itcp_result_t rc;
-                const itcp_status_t stc =
-                    register_from(last, current, main_direction, &found, params, &rc);
-                if (better(stc, &rc, st, &r)) {
-                    r = rc;
-                    st = stc;
+             * that did not give a good match: around the prediction, and
+             * if that is still not good, over the wide window. */
+            if (params->use_coarse) {
+                for (unsigned pass = have_prediction ? 0u : 1u;
+                     pass < ((prior != NULL) ? 1u : 2u) && !good_enough(params, st, &r, false);
+                     pass++) {
+                    coarse_params_t cp = params->coarse;
+                    if (pass == 1u && known_motion) {
+                        cp.window = params->coarse_window_wide;
+                    } else if (pass == 1u) { /* nothing known: wider, coarser */
+                        cp.window = params->coarse_window_first;
+                        cp.step = params->coarse_step_first;
+                    }
+                    ego_pose_t found = start;
+                    uint64_t score = 0u;
+                    coarse_search(last, current, main_direction, &start, &cp, &found, &score);
+                    itcp_result_t rc;
+                    const itcp_status_t stc =
+                        register_from(last, current, main_direction, &found, params, &rc);
+                    if (better(stc, &rc, st, &r, 0)) {
+                        r = rc;
+                        st = stc;
+                    }
                 }
             }
             tried++;
-            if (better(st, &r, best_status, &best)) {
+            /* Another rotation replaces the prior's only if clearly better. */
+            const bool against_prior = prior != NULL && best_k == 0u && best_status == ITCP_OK;
+            if (better(st, &r, best_status, &best, against_prior ? params->prior_margin : 0)) {
                 best = r;
                 best_status = st;
                 best_k = k;
@@ -247,6 +324,7 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     }
     set_velocities(out);
 
+    state->predictable = matched && close_to(&out->pose, &predicted, params);
     state->motion = out->pose;
     state->motion_dt_us = dt;
     state->last = cur;

@@ -8,13 +8,25 @@
  *     and correlate it with the last scan's: up to HIST_MAX_CANDIDATES
  *     rotation candidates, best first;
  *  3. for each candidate, best first: ITCP with the rotation held
- *     (translation only) from the predicted motion (the last motion), then
- *     full ITCP (itcp.h); when that does not converge with accept_fraction
- *     of the points as inliers, or there is no prediction yet, also a
- *     bounded coarse search of the translation and a small rotation
- *     correction (coarse.h) followed by the same ITCP. The candidate with
- *     the most inliers wins; one with stop_fraction of the points as
- *     inliers ends the search early;
+ *     (translation only) from the predicted motion (the prior if given,
+ *     else the last motion), then full ITCP (itcp.h). When that is not
+ *     good enough (not converged, or a group below accept_fraction, see
+ *     below), a bounded coarse search of the translation and a small
+ *     rotation correction (coarse.h) around the prediction, then the same
+ *     ITCP; without a prior, if still not good enough, the coarse search
+ *     over the wide window. The prediction is skipped (wide window at once)
+ *     when the last motion did not itself come out within trust_* of its
+ *     prediction: between keyframes, or after a turn. The candidate with the
+ *     largest balanced inlier share wins (a candidate replacing the prior's
+ *     rotation needs prior_margin more); one with stop_fraction ends the
+ *     search early.
+ *     Inlier share: per current point max(0, 1 - d^2 / inlier_distance^2),
+ *     averaged per group (tangent on the main direction, or not), and the
+ *     two groups weighted equally as in eq. 10: in a corridor a pose that
+ *     fits the walls but not the few door frames and end walls is wrong,
+ *     however many wall points fit. A group under a fifth of the points is
+ *     pooled with the other (a handful of points is noise, not evidence);
+ */
  *  4. the relative pose of this scan in the frame of the last, and the
  *     velocities pose / dT.
  * The prepared scans live in two slots of the caller's state that swap
@@ -58,7 +70,11 @@ typedef struct {
     itcp_params_t itcp;
     bool use_coarse;             /* coarse translation search before ITCP; default on */
     coarse_params_t coarse;      /* its window is centred on the prediction */
-    fx_q16_16_t coarse_window_first; /* window when there is no prediction yet, default 4 m */
+    fx_q16_16_t coarse_window_first; /* window when no motion is known yet (first pair, or
+                                        after a failed match), default 4 m ... */
+    fx_q16_16_t coarse_step_first;   /* ... searched at this step, default 0.2 m */
+    fx_q16_16_t coarse_window_wide;  /* window when the last motion did not predict the
+                                        last scan, default 1.6 m (at the coarse step) */
     fx_q2_30_t accept_fraction;  /* ITCP from the prediction with at least this share of
                                     the points as inliers (and converged) needs no coarse
                                     search; default 0.6 */
@@ -69,6 +85,12 @@ typedef struct {
     fx_q2_30_t min_correlation;  /* below: EGO_FLAG_LOW_CORRELATION, default 0.3 */
     uint16_t min_points;         /* fewer: EGO_FLAG_TOO_FEW_POINTS, default 20 */
     uint32_t max_gap_us;         /* longer between scans: start over, default 1 s */
+    fx_q16_16_t trust_translation; /* the last motion predicts the next only when it was */
+    fx_bam32_t trust_rotation;     /* itself this close to its prediction; default 0.1 m,
+                                      3 deg (otherwise: the wide search) */
+    fx_q2_30_t prior_margin;       /* another rotation candidate replaces the prior's only
+                                      with a balanced inlier share this much larger;
+                                      default 0.1 */
 } ego_params_t;
 
 void ego_defaults(ego_params_t *params);
@@ -82,6 +104,7 @@ typedef struct {
     uint32_t last_time_us;
     ego_pose_t motion;       /* last relative pose, for the prediction */
     uint32_t motion_dt_us;
+    bool predictable;        /* the last motion came out close to its prediction */
 } ego_state_t;
 
 typedef struct {

@@ -55,6 +55,9 @@ static void sums_add(itcp_group_sums_t *s, fx_q16_16_t x, fx_q16_16_t y, fx_q16_
 typedef struct {
     itcp_sums_t sums;
     uint32_t inliers;
+    uint32_t group_points[2];  /* current points per group, matched or not */
+    uint32_t group_inliers[2];
+    uint64_t group_fit[2];     /* sum of (inlier_distance^2 - d^2), inliers only, Q32.32 */
     uint64_t sum_sq; /* of match distances, Q32.32 */
 } pass_t;
 
@@ -317,15 +320,20 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
         ego_pose_apply(pose, s, c, cur->x[i], cur->y[i], &qx, &qy);
         const bool has_tc = (cur->flags[i] & EGO_POINT_HAS_TANGENT) != 0u;
         const fx_bam32_t tc = (cur->tangent[i] + pose->theta) & (FX_BAM32_HALF - 1u);
+        const bool on_main =
+            has_tc && line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
+        const unsigned g = on_main ? 0u : 1u;
+        pass->group_points[g]++;
         const match_t best = find_match(m, qx, qy, has_tc, tc);
         if (!best.found) {
             continue;
         }
-        const bool on_main =
-            has_tc && line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
         itcp_sums_add(&pass->sums, on_main, cur->x[i], cur->y[i], best.x, best.y);
         pass->sum_sq += best.dist_sq;
-        pass->inliers += (best.dist_sq <= inlier_sq) ? 1u : 0u;
+        const uint32_t inlier = (best.dist_sq <= inlier_sq) ? 1u : 0u;
+        pass->inliers += inlier;
+        pass->group_inliers[g] += inlier;
+        pass->group_fit[g] += (inlier != 0u) ? inlier_sq - best.dist_sq : 0u;
     }
 }
 
@@ -587,6 +595,17 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
     result->n_main = (uint16_t)pass.sums.group[0].n;
     result->n_non_main = (uint16_t)pass.sums.group[1].n;
     result->inliers = (uint16_t)pass.inliers;
+    const uint64_t inlier_sq =
+        (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
+    for (uint8_t g = 0u; g < 2u; g++) {
+        result->group_points[g] = (uint16_t)pass.group_points[g];
+        result->group_inliers[g] = (uint16_t)pass.group_inliers[g];
+        /* fit / (points * inlier_sq) in Q2.30; fit <= points * inlier_sq
+         * < 2^16 * 2^34 (inlier_distance < 2 m). */
+        const uint64_t full = (uint64_t)pass.group_points[g] * inlier_sq;
+        result->group_fit[g] =
+            (full == 0u) ? 0 : (fx_q2_30_t)((pass.group_fit[g] >> 4) * (1ull << 30) / (full >> 4));
+    }
     if (matches > 0) {
         result->residual = (fx_q16_16_t)fx_sqrt_u64(pass.sum_sq / (uint64_t)matches);
     }
