@@ -26,7 +26,6 @@
  *     fits the walls but not the few door frames and end walls is wrong,
  *     however many wall points fit. A group under a fifth of the points is
  *     pooled with the other (a handful of points is noise, not evidence);
- */
  *  4. the relative pose of this scan in the frame of the last, and the
  *     velocities pose / dT.
  * The prepared scans live in two slots of the caller's state that swap
