@@ -3,6 +3,7 @@
 
 usage: pairs_error.py TRUTH.pairs REPLAY.csv [--exclude-flags MASK] [--fail-m 0.10 --fail-deg 1.0]
                      [--max-failed N] [--max-rot-mean DEG] [--max-trans-mean M]
+                     [--max-rot-median DEG] [--max-trans-median M]
 
 Prints, over the pairs present in both: translation error (along = x of the
 truth's frame, across = y) and rotation error: mean, median, p95, max; and the
@@ -65,6 +66,8 @@ def main():
     ap.add_argument('--max-failed', type=int)
     ap.add_argument('--max-rot-mean', type=float)
     ap.add_argument('--max-trans-mean', type=float)
+    ap.add_argument('--max-rot-median', type=float)
+    ap.add_argument('--max-trans-median', type=float)
     a = ap.parse_args()
     truth = read_truth(a.truth)
     est = read_csv(a.csv)
@@ -99,6 +102,11 @@ def main():
         broken.append('rotation mean above %g deg' % a.max_rot_mean)
     if a.max_trans_mean is not None and (not trans or statistics.fmean(trans) > a.max_trans_mean):
         broken.append('translation mean above %g m' % a.max_trans_mean)
+    if a.max_rot_median is not None and (not rot or statistics.median(rot) > a.max_rot_median):
+        broken.append('rotation median above %g deg' % a.max_rot_median)
+    if a.max_trans_median is not None and (not trans or
+                                           statistics.median(trans) > a.max_trans_median):
+        broken.append('translation median above %g m' % a.max_trans_median)
     for b in broken:
         print('BOUND EXCEEDED: ' + b)
     return 1 if broken else 0
