@@ -1,7 +1,8 @@
 /* cmd_import_carmen.c - `lmsego import-carmen LOG -o STREAM [--odometry OUT]
- * [--no-return M]`: converts the laser lines of a CARMEN log (plain or
- * gzip'd, read through zlib; FLASER/RLASER and ROBOTLASER1) into an LMS 2xx
- * B0 telegram stream, the format `lmsego stats`, `scans` and `replay` read.
+ * [--no-return M] [--stride K]`: converts the laser lines of a CARMEN log
+ * (plain or gzip'd, read through zlib; FLASER/RLASER and ROBOTLASER1) into
+ * an LMS 2xx B0 telegram stream, the format `lmsego stats`, `scans` and
+ * `replay` read.
  *
  * Beam geometry is kept exact: 180 or 181 beams from -90 deg at 1 deg
  * become a 181-value 1-degree scan, 360 or 361 beams at 0.5 deg a
@@ -23,6 +24,13 @@
  * re-anchoring records GMapping writes right after each laser line (equal
  * to that line's pose) skipped, each scan taking the pose of the last
  * ODOM record before it (the rules of ../shared/tools/carmenlog.py).
+ *
+ * --stride K keeps only scans 0, K, 2K, ... (counted as the stream would
+ * count them at stride 1) for a stride-K evaluation; the odometry lines
+ * are then `i i+K dx dy dtheta` in those numbers, the motion between the
+ * two kept scans (the same as relpose_eval.py --stride K --write-baseline
+ * odom gives for those pairs). The scans left out still take part in the
+ * odometry chaining, which needs every laser line to spot re-anchoring.
  */
 #include <errno.h>
 #include <math.h>
@@ -37,6 +45,7 @@
 #define LINE_MAX_BYTES 65536u
 #define MAX_BEAMS 361u
 #define PI 3.14159265358979323846
+#define MAX_STRIDE 100000ul
 
 typedef struct {
     double x, y, theta;
@@ -161,6 +170,7 @@ typedef struct {
     const char *out_path;
     const char *odom_path;
     double no_return; /* 0: the largest reading */
+    unsigned long stride;
 } import_args_t;
 
 /* Pass 1: the largest reading, and the smallest reading that is not a
@@ -238,7 +248,8 @@ static int import(const import_args_t *a)
     const unsigned largest_code = whole_cm ? 0x1FF6u : 0xFFFFu;
     const uint16_t no_return_code = whole_cm ? 0x1FFFu : 0u;
 
-    unsigned long scans = 0u;
+    unsigned long scans = 0u; /* laser scans read, kept or not */
+    unsigned long kept = 0u;
     unsigned long unsupported = 0u;
     pose_t cont = {0.0, 0.0, 0.0};
     pose_t prev_odom = {0.0, 0.0, 0.0};
@@ -280,6 +291,12 @@ static int import(const import_args_t *a)
             unsupported++;
             continue;
         }
+        last_laser = l.pose;
+        just_after_laser = 1;
+        const unsigned long index = scans++;
+        if (index % a->stride != 0u) {
+            continue;
+        }
         memset(&scan, 0, sizeof scan);
         scan.count = (uint16_t)l.values;
         scan.unit = unit;
@@ -301,16 +318,14 @@ static int import(const import_args_t *a)
         }
         if (odom != NULL && have_odom && prev_scan_has_odom) {
             const pose_t d = between(prev_scan_odom, cont);
-            if (fprintf(odom, "%lu %lu %.9f %.9f %.9f\n", scans - 1u, scans, d.x, d.y, d.theta) <
-                0) {
+            if (fprintf(odom, "%lu %lu %.9f %.9f %.9f\n", index - a->stride, index, d.x, d.y,
+                        d.theta) < 0) {
                 failed = 1;
             }
         }
         prev_scan_odom = cont;
         prev_scan_has_odom = have_odom;
-        last_laser = l.pose;
-        just_after_laser = 1;
-        scans++;
+        kept++;
     }
     const int read_error = !gzeof(in) && !failed;
     (void)gzclose(in);
@@ -326,16 +341,37 @@ static int import(const import_args_t *a)
         cli_file_error("error writing ", a->out_path, strerror(errno));
         return CLI_EXIT_RUNTIME;
     }
+    char strided[64] = "";
+    if (a->stride > 1u) {
+        (void)snprintf(strided, sizeof strided, " stride=%lu read=%lu", a->stride, scans);
+    }
     (void)fprintf(stderr,
-                  "lmsego: import-carmen: scans=%lu unsupported=%lu unit=%s no_return=%.2f%s\n",
-                  scans, unsupported, whole_cm ? "cm" : "mm", no_return,
+                  "lmsego: import-carmen: scans=%lu unsupported=%lu unit=%s no_return=%.2f%s%s\n",
+                  kept, unsupported, whole_cm ? "cm" : "mm", no_return, strided,
                   whole_cm ? "" : " (replay with --mode 0F)");
     return CLI_EXIT_OK;
 }
 
+/* A whole number 1..MAX_STRIDE, digits only (strtoul alone would take
+ * "-1", " 2" or "3x"). */
+static int parse_stride(const char *text, unsigned long *out)
+{
+    if (text == NULL || text[0] < '0' || text[0] > '9') {
+        return -1;
+    }
+    char *end = NULL;
+    errno = 0;
+    const unsigned long k = strtoul(text, &end, 10);
+    if (*end != '\0' || errno != 0 || k < 1u || k > MAX_STRIDE) {
+        return -1;
+    }
+    *out = k;
+    return 0;
+}
+
 int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
 {
-    import_args_t a = {NULL, NULL, NULL, 0.0};
+    import_args_t a = {NULL, NULL, NULL, 0.0, 1u};
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -356,6 +392,11 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
         } else if (strcmp(arg, "--no-return") == 0) {
             if (value == NULL || number(value, &a.no_return) != 0 || a.no_return <= 0.0) {
                 return cli_usage_error(self, "invalid --no-return", value, "metres, > 0");
+            }
+            i++;
+        } else if (strcmp(arg, "--stride") == 0) {
+            if (parse_stride(value, &a.stride) != 0) {
+                return cli_usage_error(self, "invalid --stride", value, "a whole number, 1..100000");
             }
             i++;
         } else {

@@ -1,6 +1,6 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
  * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
- * [--tum OUT]`:
+ * [--tum OUT] [--scan-step K]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
@@ -14,6 +14,11 @@
  * restart (flag 1) has no relative pose and gives no line. --tum OUT
  * writes the integrated trajectory `time x y z qx qy qz qw`, starting at
  * the origin; across a restart it holds the last pose.
+ *
+ * --scan-step K is for a stream made with `import-carmen --stride K`:
+ * stream scan s is log scan s*K, so --pairs writes `K*(s-1) K*s ...` and
+ * a --prior line `i j ...` with i = j - K is the prior of stream scan j/K.
+ * The CSV keeps counting stream scans.
  */
 #include <errno.h>
 #include <math.h>
@@ -33,6 +38,7 @@ typedef struct {
     ego_pose_t *prior;     /* --prior: prior[j] for scan j, or NULL */
     uint8_t *has_prior;
     uint32_t prior_count;
+    uint32_t scan_step; /* --scan-step: log scans per stream scan */
     FILE *tum;    /* --tum, or NULL */
     double x, y, theta; /* integrated pose for --tum */
 } replay_io_t;
@@ -49,9 +55,11 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
      * half away from zero (x * 10^6 / 2^16 is exact in a double). */
     const long long ux = llround((double)out->pose.x * 1e6 / 65536.0);
     const long long uy = llround((double)out->pose.y * 1e6 / 65536.0);
+    /* Numbered as in the log the stream came from (scan >= 1 here). */
+    const unsigned long step = io->scan_step;
     if (io->pairs != NULL && !restart &&
-        fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n", (unsigned long)scan - 1ul,
-                (unsigned long)scan, (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
+        fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n", step * (scan - 1ul),
+                step * scan, (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
                 (uy < 0) ? "-" : "", llabs(uy) / 1000000, llabs(uy) % 1000000, dt) < 0) {
         io->write_failed = 1;
     }
@@ -80,9 +88,10 @@ static bool give_prior(void *ctx, uint32_t scan, ego_pose_t *prior)
     return true;
 }
 
-/* Reads --prior FILE: lines `i j dx dy dtheta` (metres, radians), j = i + 1
- * used as the prior of scan j; '#' lines and other pairs are ignored.
- * Returns 0, or -1 after a message. */
+/* Reads --prior FILE: lines `i j dx dy dtheta` (metres, radians) in log
+ * scan numbers; j = i + K (K = --scan-step) is used as the prior of stream
+ * scan j / K; '#' lines and other pairs are ignored. Returns 0, or -1
+ * after a message. */
 static int load_priors(const char *path, replay_io_t *io)
 {
     enum { MAX_PRIOR_SCANS = 1000000 };
@@ -117,11 +126,13 @@ static int load_priors(const char *path, replay_io_t *io)
             rc = -1;
             break;
         }
-        if (j != i + 1u) {
+        const unsigned long step = io->scan_step;
+        if (j < step || i != j - step || j % step != 0u) {
             continue;
         }
-        if (j >= io->prior_count) {
-            const uint32_t count = (uint32_t)(j + 1u) * 2u;
+        const unsigned long s = j / step;
+        if (s >= io->prior_count) {
+            const uint32_t count = (uint32_t)(s + 1u) * 2u;
             ego_pose_t *grown = realloc(io->prior, count * sizeof *grown);
             uint8_t *flags = realloc(io->has_prior, count);
             if (grown != NULL) {
@@ -138,12 +149,12 @@ static int load_priors(const char *path, replay_io_t *io)
             memset(&io->has_prior[io->prior_count], 0, count - io->prior_count);
             io->prior_count = count;
         }
-        io->prior[j].x = (fx_q16_16_t)lround(v[0] * 65536.0);
-        io->prior[j].y = (fx_q16_16_t)lround(v[1] * 65536.0);
+        io->prior[s].x = (fx_q16_16_t)lround(v[0] * 65536.0);
+        io->prior[s].y = (fx_q16_16_t)lround(v[1] * 65536.0);
         double turns = v[2] / (2.0 * 3.14159265358979323846);
         turns -= floor(turns);
-        io->prior[j].theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
-        io->has_prior[j] = 1u;
+        io->prior[s].theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
+        io->has_prior[s] = 1u;
     }
     (void)fclose(f);
     return rc;
@@ -243,6 +254,23 @@ static int parse_mount(const char *text, ego_prep_params_t *prep)
     return 0;
 }
 
+/* --scan-step: a whole number 1..100000, digits only (strtoul alone would
+ * take "-1", " 2" or "3x"). */
+static int parse_scan_step(const char *text, uint32_t *out)
+{
+    if (text == NULL || text[0] < '0' || text[0] > '9') {
+        return -1;
+    }
+    char *end = NULL;
+    errno = 0;
+    const unsigned long k = strtoul(text, &end, 10);
+    if (*end != '\0' || errno != 0 || k < 1u || k > 100000u) {
+        return -1;
+    }
+    *out = (uint32_t)k;
+    return 0;
+}
+
 static int parse_hist(const char *text, hist_kind_t *kind)
 {
     static const struct {
@@ -267,6 +295,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *pairs_path = NULL;
     const char *prior_path = NULL;
     const char *tum_path = NULL;
+    uint32_t scan_step = 1u;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -302,6 +331,12 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                 tum_path = value;
             }
             i++;
+        } else if (strcmp(arg, "--scan-step") == 0) {
+            if (parse_scan_step(value, &scan_step) != 0) {
+                return cli_usage_error(self, "invalid --scan-step", value,
+                                       "a whole number, 1..100000");
+            }
+            i++;
         } else if (strcmp(arg, "--icp") == 0) {
             config.ego.itcp.weighted = false; /* plain ICP, for comparison */
         } else if (strcmp(arg, "--hist") == 0) {
@@ -327,6 +362,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
 
     replay_io_t io;
     memset(&io, 0, sizeof io);
+    io.scan_step = scan_step;
     if (prior_path != NULL && load_priors(prior_path, &io) != 0) {
         free(io.prior);
         free(io.has_prior);

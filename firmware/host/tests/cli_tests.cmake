@@ -161,3 +161,28 @@ add_test(NAME cli_import_carmen_mm
             $<TARGET_FILE:lmsego> ${LMSEGO_CLI_DATA}/mm.carmen ${CMAKE_CURRENT_BINARY_DIR}/mm.lms)
 set_tests_properties(cli_import_carmen_mm PROPERTIES LABELS "cli"
     PASS_REGULAR_EXPRESSION "unit=mm no_return=9\\.99.*\n0 1 181 1235 0 2000 2000")
+
+# --- stride-K evaluation (import-carmen --stride, replay --scan-step) -------
+add_test(NAME cli_stride
+    COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> -DDATA=${LMSEGO_CARMEN}
+            -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/stride
+            -P ${LMSEGO_CLI_DATA}/stride.cmake)
+set_tests_properties(cli_stride PROPERTIES LABELS "cli")
+# Bad K: zero, negative, not a number, trailing junk, too large, missing.
+set(n 0)
+foreach(k 0 -2 abc 2x 100001)
+    math(EXPR n "${n} + 1")
+    lmsego_cli_test(import_carmen_bad_stride_${n} ARGS import-carmen
+        ${LMSEGO_CARMEN}/intel_first4.log -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms --stride ${k}
+        OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+                "-DSTDERR_REGEX=invalid --stride '${k}'")
+    lmsego_cli_test(replay_bad_scan_step_${n} ARGS replay --scan-step ${k}
+        ${LMSEGO_SEQ}/table2_361_cm.lms
+        OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+                "-DSTDERR_REGEX=invalid --scan-step '${k}'")
+endforeach()
+lmsego_cli_test(import_carmen_stride_missing ARGS import-carmen
+    ${LMSEGO_CARMEN}/intel_first4.log -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms --stride
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--stride)
+lmsego_cli_test(replay_scan_step_missing ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms --scan-step
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--scan-step)
