@@ -14,11 +14,11 @@ void itcp_defaults(itcp_params_t *params)
 {
     memset(params, 0, sizeof *params);
     params->weighted = true;
-    params->tangent_gate = true;
+    params->tangent_gate = false;
     params->gate = FX_BAM32_DEG_C(25.0);
     params->main_tolerance = FX_BAM32_DEG_C(10.0);
     params->radius_start = FX_Q16_16_C(0.6);
-    params->radius_min = FX_Q16_16_C(0.15);
+    params->radius_min = FX_Q16_16_C(0.08);
     params->radius_fine = FX_Q16_16_C(0.05);
     params->radius_shrink = (fx_q2_30_t)(FX_Q2_30_ONE / 4 * 3); /* 0.75 */
     params->max_iterations = 30u;
