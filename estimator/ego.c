@@ -29,6 +29,8 @@ void ego_defaults(ego_params_t *params)
     params->max_gap_us = 1000000u;
     params->trust_translation = FX_Q16_16_C(0.10);
     params->prior_margin = (fx_q2_30_t)(FX_Q2_30_ONE / 10);
+    params->sweep_steps = 11u;
+    params->sweep_step = FX_BAM32_DEG_C(4.0);
     params->trust_rotation = FX_BAM32_DEG_C(3.0);
 }
 
@@ -230,8 +232,8 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
                        params->merge_bins, &hm);
         /* Candidates: the histogram's peaks, plus the predicted rotation
          * when the histogram is not trustworthy. */
-        fx_bam32_t rotation[HIST_MAX_CANDIDATES + 2u];
-        fx_q2_30_t correlation[HIST_MAX_CANDIDATES + 2u];
+        fx_bam32_t rotation[HIST_MAX_CANDIDATES + 3u]; /* + prior, prediction, sweep */
+        fx_q2_30_t correlation[HIST_MAX_CANDIDATES + 3u];
         uint8_t n = 0u;
         if (prior != NULL) { /* the prior's rotation first */
             rotation[n] = prior->theta;
@@ -297,6 +299,31 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
                 best_k = k;
             }
         }
+        /* Last resort, without a prior: no candidate fits. The histogram's
+         * peaks can all be wrong where few walls are seen (its correlation
+         * is broad and has one maximum); sweep the rotation instead. */
+        if (prior == NULL && params->use_coarse && params->sweep_steps > 0u &&
+            !good_enough(params, best_status, &best, false)) {
+            coarse_params_t cp = params->coarse;
+            cp.window = known_motion ? params->coarse_window_wide : params->coarse_window_first;
+            cp.step = params->coarse_step_first;
+            cp.rotation_steps = params->sweep_steps;
+            cp.rotation_step = params->sweep_step;
+            const ego_pose_t centre = {predicted.theta, predicted.x, predicted.y};
+            ego_pose_t found = centre;
+            uint64_t score = 0u;
+            coarse_search(last, current, main_direction, &centre, &cp, &found, &score);
+            itcp_result_t r;
+            const itcp_status_t st =
+                register_from(last, current, main_direction, &found, params, &r);
+            tried++;
+            if (better(st, &r, best_status, &best, 0)) {
+                best = r;
+                best_status = st;
+                best_k = n; /* no histogram candidate */
+                correlation[n] = 0;
+            }
+        }
         out->candidates = tried;
         if (best_status == ITCP_OK) {
             matched = true;
@@ -311,9 +338,12 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
             if (best.aperture) {
                 /* Along a corridor the scans cannot tell how far the vehicle
                  * went: keep the measured motion across the main direction
-                 * and take the predicted one along it. */
+                 * and take the predicted one along it, if there is a
+                 * prediction worth the name (else the match's own guess). */
                 out->flags |= EGO_FLAG_APERTURE;
-                keep_prediction_along(&out->pose, &predicted, main_direction);
+                if (have_prediction) {
+                    keep_prediction_along(&out->pose, &predicted, main_direction);
+                }
             }
             out->flags |= best.converged ? 0u : EGO_FLAG_NOT_CONVERGED;
         }

@@ -90,6 +90,9 @@ typedef struct {
     fx_q2_30_t prior_margin;       /* another rotation candidate replaces the prior's only
                                       with a balanced inlier share this much larger;
                                       default 0.1 */
+    uint8_t sweep_steps;           /* without a prior, when no candidate fits: coarse search */
+    fx_bam32_t sweep_step;         /* over rotations sweep_steps * sweep_step each side of
+                                      the prediction; default 11 x 4 deg (0: off) */
 } ego_params_t;
 
 void ego_defaults(ego_params_t *params);
