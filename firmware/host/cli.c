@@ -3,7 +3,9 @@
 
 #include "lms_proto.h"
 
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Writes text to stderr with bytes outside printable ASCII shown as '?'. */
@@ -122,4 +124,19 @@ int cli_take_file(const cli_command_t *cmd, const char *arg, const char **path)
     }
     *path = arg;
     return CLI_EXIT_OK;
+}
+
+int cli_parse_whole(const char *text, unsigned long min, unsigned long max, unsigned long *out)
+{
+    if (text == NULL || text[0] < '0' || text[0] > '9') {
+        return -1;
+    }
+    char *end = NULL;
+    errno = 0;
+    const unsigned long k = strtoul(text, &end, 10);
+    if (*end != '\0' || errno != 0 || k < min || k > max) {
+        return -1;
+    }
+    *out = k;
+    return 0;
 }

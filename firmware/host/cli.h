@@ -56,6 +56,10 @@ bool cli_finish_stdout(void);
  * the range modes 00..06 and 0F. Returns 0 on success. */
 int cli_parse_meas_mode(const char *text, uint8_t *mode);
 
+/* A whole number in [min, max], decimal digits only (strtoul alone would
+ * take "-1", " 2" or "3x"). Returns 0 on success. */
+int cli_parse_whole(const char *text, unsigned long min, unsigned long max, unsigned long *out);
+
 /* A non-option argument: the command's one file (stdin is "-"). An option
  * it does not know, or a second file, is a usage error (its exit code is
  * returned); CLI_EXIT_OK when *path took arg. */

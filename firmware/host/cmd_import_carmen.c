@@ -1,5 +1,5 @@
 /* cmd_import_carmen.c - `lmsego import-carmen LOG -o STREAM [--odometry OUT]
- * [--no-return M] [--stride K]`: converts the laser lines of a CARMEN log
+ * [--no-return M] [--stride K] [--offset O]`: converts the laser lines of a CARMEN log
  * (plain or gzip'd, read through zlib; FLASER/RLASER and ROBOTLASER1) into
  * an LMS 2xx B0 telegram stream, the format `lmsego stats`, `scans` and
  * `replay` read.
@@ -26,7 +26,8 @@
  * ODOM record before it (the rules of ../shared/tools/carmenlog.py).
  *
  * --stride K keeps only scans 0, K, 2K, ... (counted as the stream would
- * count them at stride 1) for a stride-K evaluation; the odometry lines
+ * count them at stride 1) for a stride-K evaluation, --offset O (< K)
+ * shifts them to O, O + K, ...; the odometry lines
  * are then `i i+K dx dy dtheta` in those numbers, the motion between the
  * two kept scans (the same as relpose_eval.py --stride K --write-baseline
  * odom gives for those pairs). The scans left out still take part in the
@@ -171,6 +172,7 @@ typedef struct {
     const char *odom_path;
     double no_return; /* 0: the largest reading */
     unsigned long stride;
+    unsigned long offset; /* < stride */
 } import_args_t;
 
 /* Pass 1: the largest reading, and the smallest reading that is not a
@@ -294,7 +296,7 @@ static int import(const import_args_t *a)
         last_laser = l.pose;
         just_after_laser = 1;
         const unsigned long index = scans++;
-        if (index % a->stride != 0u) {
+        if (index < a->offset || (index - a->offset) % a->stride != 0u) {
             continue;
         }
         memset(&scan, 0, sizeof scan);
@@ -352,26 +354,9 @@ static int import(const import_args_t *a)
     return CLI_EXIT_OK;
 }
 
-/* A whole number 1..MAX_STRIDE, digits only (strtoul alone would take
- * "-1", " 2" or "3x"). */
-static int parse_stride(const char *text, unsigned long *out)
-{
-    if (text == NULL || text[0] < '0' || text[0] > '9') {
-        return -1;
-    }
-    char *end = NULL;
-    errno = 0;
-    const unsigned long k = strtoul(text, &end, 10);
-    if (*end != '\0' || errno != 0 || k < 1u || k > MAX_STRIDE) {
-        return -1;
-    }
-    *out = k;
-    return 0;
-}
-
 int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
 {
-    import_args_t a = {NULL, NULL, NULL, 0.0, 1u};
+    import_args_t a = {NULL, NULL, NULL, 0.0, 1u, 0u};
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -395,8 +380,13 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
             }
             i++;
         } else if (strcmp(arg, "--stride") == 0) {
-            if (parse_stride(value, &a.stride) != 0) {
+            if (cli_parse_whole(value, 1u, MAX_STRIDE, &a.stride) != 0) {
                 return cli_usage_error(self, "invalid --stride", value, "a whole number, 1..100000");
+            }
+            i++;
+        } else if (strcmp(arg, "--offset") == 0) {
+            if (cli_parse_whole(value, 0u, MAX_STRIDE - 1u, &a.offset) != 0) {
+                return cli_usage_error(self, "invalid --offset", value, "a whole number, 0..99999");
             }
             i++;
         } else {
@@ -405,6 +395,9 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
                 return rc;
             }
         }
+    }
+    if (a.offset >= a.stride) {
+        return cli_usage_error(self, "--offset must be below --stride", NULL, NULL);
     }
     if (a.log_path == NULL) {
         return cli_usage_error(self, "missing LOG", NULL, NULL);

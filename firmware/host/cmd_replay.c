@@ -1,6 +1,6 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
  * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
- * [--tum OUT] [--scan-step K]`:
+ * [--tum OUT] [--scan-step K] [--scan-offset O]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
@@ -15,9 +15,10 @@
  * writes the integrated trajectory `time x y z qx qy qz qw`, starting at
  * the origin; across a restart it holds the last pose.
  *
- * --scan-step K is for a stream made with `import-carmen --stride K`:
- * stream scan s is log scan s*K, so --pairs writes `K*(s-1) K*s ...` and
- * a --prior line `i j ...` with i = j - K is the prior of stream scan j/K.
+ * --scan-step K and --scan-offset O are for a stream made with
+ * `import-carmen --stride K --offset O`: stream scan s is log scan
+ * O + s*K, so --pairs writes `O+K*(s-1) O+K*s ...` and a --prior line
+ * `i j ...` with i = j - K is the prior of stream scan (j - O) / K.
  * The CSV keeps counting stream scans.
  */
 #include <errno.h>
@@ -38,7 +39,8 @@ typedef struct {
     ego_pose_t *prior;     /* --prior: prior[j] for scan j, or NULL */
     uint8_t *has_prior;
     uint32_t prior_count;
-    uint32_t scan_step; /* --scan-step: log scans per stream scan */
+    unsigned long scan_step;   /* --scan-step: log scans per stream scan */
+    unsigned long scan_offset; /* --scan-offset: log number of stream scan 0 */
     FILE *tum;    /* --tum, or NULL */
     double x, y, theta; /* integrated pose for --tum */
 } replay_io_t;
@@ -57,9 +59,10 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
     const long long uy = llround((double)out->pose.y * 1e6 / 65536.0);
     /* Numbered as in the log the stream came from (scan >= 1 here). */
     const unsigned long step = io->scan_step;
+    const unsigned long first = io->scan_offset;
     if (io->pairs != NULL && !restart &&
-        fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n", step * (scan - 1ul),
-                step * scan, (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
+        fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n",
+                first + step * (scan - 1ul), first + step * scan, (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
                 (uy < 0) ? "-" : "", llabs(uy) / 1000000, llabs(uy) % 1000000, dt) < 0) {
         io->write_failed = 1;
     }
@@ -127,10 +130,11 @@ static int load_priors(const char *path, replay_io_t *io)
             break;
         }
         const unsigned long step = io->scan_step;
-        if (j < step || i != j - step || j % step != 0u) {
+        const unsigned long first = io->scan_offset;
+        if (j < first + step || i != j - step || (j - first) % step != 0u) {
             continue;
         }
-        const unsigned long s = j / step;
+        const unsigned long s = (j - first) / step;
         if (s >= io->prior_count) {
             const uint32_t count = (uint32_t)(s + 1u) * 2u;
             ego_pose_t *grown = realloc(io->prior, count * sizeof *grown);
@@ -254,23 +258,6 @@ static int parse_mount(const char *text, ego_prep_params_t *prep)
     return 0;
 }
 
-/* --scan-step: a whole number 1..100000, digits only (strtoul alone would
- * take "-1", " 2" or "3x"). */
-static int parse_scan_step(const char *text, uint32_t *out)
-{
-    if (text == NULL || text[0] < '0' || text[0] > '9') {
-        return -1;
-    }
-    char *end = NULL;
-    errno = 0;
-    const unsigned long k = strtoul(text, &end, 10);
-    if (*end != '\0' || errno != 0 || k < 1u || k > 100000u) {
-        return -1;
-    }
-    *out = (uint32_t)k;
-    return 0;
-}
-
 static int parse_hist(const char *text, hist_kind_t *kind)
 {
     static const struct {
@@ -295,7 +282,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *pairs_path = NULL;
     const char *prior_path = NULL;
     const char *tum_path = NULL;
-    uint32_t scan_step = 1u;
+    unsigned long scan_step = 1u;
+    unsigned long scan_offset = 0u;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -332,9 +320,15 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             }
             i++;
         } else if (strcmp(arg, "--scan-step") == 0) {
-            if (parse_scan_step(value, &scan_step) != 0) {
+            if (cli_parse_whole(value, 1u, 100000u, &scan_step) != 0) {
                 return cli_usage_error(self, "invalid --scan-step", value,
                                        "a whole number, 1..100000");
+            }
+            i++;
+        } else if (strcmp(arg, "--scan-offset") == 0) {
+            if (cli_parse_whole(value, 0u, 100000u, &scan_offset) != 0) {
+                return cli_usage_error(self, "invalid --scan-offset", value,
+                                       "a whole number, 0..100000");
             }
             i++;
         } else if (strcmp(arg, "--icp") == 0) {
@@ -363,6 +357,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     replay_io_t io;
     memset(&io, 0, sizeof io);
     io.scan_step = scan_step;
+    io.scan_offset = scan_offset;
     if (prior_path != NULL && load_priors(prior_path, &io) != 0) {
         free(io.prior);
         free(io.has_prior);

@@ -184,5 +184,17 @@ endforeach()
 lmsego_cli_test(import_carmen_stride_missing ARGS import-carmen
     ${LMSEGO_CARMEN}/intel_first4.log -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms --stride
     OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--stride)
+lmsego_cli_test(import_carmen_offset_not_below_stride ARGS import-carmen
+    ${LMSEGO_CARMEN}/intel_first4.log -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms --stride 2 --offset 2
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=--offset must be below --stride")
+lmsego_cli_test(import_carmen_bad_offset ARGS import-carmen
+    ${LMSEGO_CARMEN}/intel_first4.log -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms --offset x1
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=invalid --offset 'x1'")
+lmsego_cli_test(replay_bad_scan_offset ARGS replay --scan-offset -1
+    ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=invalid --scan-offset '-1'")
 lmsego_cli_test(replay_scan_step_missing ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms --scan-step
     OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--scan-step)
