@@ -1,7 +1,7 @@
 # cmake -P script: stride-2 evaluation on the 12-scan intel excerpt.
 #   import-carmen --stride 2 keeps scans 0, 2, ..., 10: its `lmsego scans`
 #   output and odometry lines equal the expected files (made without lmsego;
-#   see host_tests/data/carmen/intel_first12.md), and --stride 1 is the
+#   see host_tests/data/carmen/README.md), and --stride 1 is the
 #   default. replay --scan-step 2 numbers its pairs 0 2, 2 4, ..., and takes
 #   the stride-2 odometry as its prior: the output changes, while the same
 #   increments numbered j = i + 1 (or the stride-2 file at step 1) are
