@@ -228,7 +228,10 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     bool matched = false;
     if (current->count >= params->min_points && last->count >= params->min_points) {
         hist_match_t hm;
-        hist_correlate(&state->hist[cur], &state->hist[state->last], params->max_rotation_bins,
+        /* Around the prior's rotation, if any. */
+        const fx_bam32_t expected = (prior != NULL) ? prior->theta : 0u;
+        hist_correlate(&state->hist[cur], &state->hist[state->last], expected,
+                       params->max_rotation_bins,
                        params->merge_bins, &hm);
         /* Candidates: the histogram's peaks, plus the predicted rotation
          * when the histogram is not trustworthy. */

@@ -325,8 +325,8 @@ static fx_bam32_t peak_rotation(const peak_t *p)
     return (fx_bam32_t)(uint64_t)bam;
 }
 
-void hist_correlate(const hist_t *current, const hist_t *last, uint16_t max_shift_bins,
-                    uint16_t merge_bins, hist_match_t *match)
+void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre,
+                    uint16_t max_shift_bins, uint16_t merge_bins, hist_match_t *match)
 {
     memset(match, 0, sizeof *match);
     const scaled_t a = scale(current);
@@ -340,11 +340,16 @@ void hist_correlate(const hist_t *current, const hist_t *last, uint16_t max_shif
     const int32_t limit =
         (int32_t)((max_shift_bins < HIST_BINS / 2u) ? max_shift_bins : HIST_BINS / 2u - 1u);
 
+    /* The centre in bins (0.2 deg), rounded: |c| <= HIST_BINS. */
+    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)HIST_BINS;
+    const int32_t mid = (int32_t)((centre_q + (centre_q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) /
+                                  ((int64_t)1 << 31));
+
     peak_t peaks[PEAKS_MAX];
     uint8_t npeaks = 0u;
-    int64_t before = dot_shifted(&a, &b, -limit - 1);
-    int64_t here = dot_shifted(&a, &b, -limit);
-    for (int32_t j = -limit; j <= limit; j++) {
+    int64_t before = dot_shifted(&a, &b, mid - limit - 1);
+    int64_t here = dot_shifted(&a, &b, mid - limit);
+    for (int32_t j = mid - limit; j <= mid + limit; j++) {
         const int64_t after = dot_shifted(&a, &b, j + 1);
         if (here > before && here >= after) {
             const peak_t p = {j, here, before, after};

@@ -98,8 +98,8 @@ uint16_t hist_bin_of(fx_bam32_t direction);
 fx_bam32_t hist_main_direction(const hist_t *h);
 
 typedef struct {
-    fx_bam32_t rotation;       /* theta, current -> last, as a signed angle
-                                  in (-90, 90] deg stored as a binary angle */
+    fx_bam32_t rotation;       /* theta, current -> last, within 90 deg of the
+                                  centre asked for, as a binary angle */
     fx_q2_30_t correlation;    /* c at the peak, Q2.30 in [-1, 1] */
 } hist_candidate_t;
 
@@ -108,10 +108,13 @@ typedef struct {
     hist_candidate_t candidate[HIST_MAX_CANDIDATES]; /* best first */
 } hist_match_t;
 
-/* Correlates current against last for shifts |j| <= max_shift_bins (at
- * most HIST_BINS / 2) and returns up to HIST_MAX_CANDIDATES local maxima,
- * best first, peaks closer than merge_bins to a better one dropped. */
-void hist_correlate(const hist_t *current, const hist_t *last, uint16_t max_shift_bins,
-                    uint16_t merge_bins, hist_match_t *match);
+/* Correlates current against last for shifts within max_shift_bins (at
+ * most HIST_BINS / 2) of centre (an expected rotation: a prior's, or 0) and
+ * returns up to HIST_MAX_CANDIDATES local maxima, best first, peaks closer
+ * than merge_bins to a better one dropped. Line directions repeat every
+ * 180 deg, so a candidate is the rotation nearest the centre among its
+ * 180-deg alternatives. */
+void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre,
+                    uint16_t max_shift_bins, uint16_t merge_bins, hist_match_t *match);
 
 #endif /* HIST_H */

@@ -129,7 +129,7 @@ int main(int argc, char **argv)
                 (void)hist_build(&prepared[1u - cur], &hp, &hists[m][1u - cur]);
             }
             hist_match_t match;
-            hist_correlate(&hists[m][cur], &hists[m][1u - cur], params.max_rotation_bins,
+            hist_correlate(&hists[m][cur], &hists[m][1u - cur], 0u, params.max_rotation_bins,
                            params.merge_bins, &match);
             double got = 0.0;
             if (match.count > 0u) {

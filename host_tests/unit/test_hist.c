@@ -148,7 +148,7 @@ static void check_rotation(hist_kind_t kind, double theta_deg, double tolerance_
     (void)hist_build(&g_last, &p, &g_hl);
     (void)hist_build(&g_current, &p, &g_hc);
     hist_match_t m;
-    hist_correlate(&g_hc, &g_hl, 250u, 15u, &m);
+    hist_correlate(&g_hc, &g_hl, 0u, 250u, 15u, &m);
     TEST_ASSERT_TRUE(m.count >= 1u);
     const double got = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u));
     char msg[96];
@@ -194,12 +194,12 @@ static void test_hist_flat_histogram_gives_no_candidate(void)
     memset(&g_hl, 0, sizeof g_hl);
     g_hl.bin[3] = 10u;
     hist_match_t m;
-    hist_correlate(&g_hc, &g_hl, 100u, 5u, &m);
+    hist_correlate(&g_hc, &g_hl, 0u, 100u, 5u, &m);
     TEST_ASSERT_EQUAL_UINT8(0u, m.count);
     for (uint16_t b = 0u; b < HIST_BINS; b++) {
         g_hc.bin[b] = 7u;
     }
-    hist_correlate(&g_hc, &g_hl, 100u, 5u, &m);
+    hist_correlate(&g_hc, &g_hl, 0u, 100u, 5u, &m);
     TEST_ASSERT_EQUAL_UINT8(0u, m.count);
 }
 
@@ -216,7 +216,7 @@ static void test_hist_correlation_of_a_shifted_copy(void)
         g_hc.bin[b] = g_hl.bin[(b + 37u) % HIST_BINS];
     }
     hist_match_t m;
-    hist_correlate(&g_hc, &g_hl, HIST_BINS / 2u, 5u, &m);
+    hist_correlate(&g_hc, &g_hl, 0u, HIST_BINS / 2u, 5u, &m);
     TEST_ASSERT_TRUE(m.count >= 1u);
     const double got = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u));
     TEST_ASSERT_TRUE(fabs(got - 37.0 * 180.0 / HIST_BINS) < 0.1);
