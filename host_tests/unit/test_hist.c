@@ -223,6 +223,38 @@ static void test_hist_correlation_of_a_shifted_copy(void)
     TEST_ASSERT_INT32_WITHIN(2000, 1073741824, m.candidate[0].correlation);
 }
 
+static void test_hist_correlation_around_a_centre(void)
+{
+    /* A copy shifted by 600 bins (120 deg): line directions repeat every
+     * 180 deg, so around 0 the shift reads as -300 bins (-60 deg), out of
+     * a +-45 deg window; around a prior of 110 deg it is found as 120 deg. */
+    memset(&g_hl, 0, sizeof g_hl);
+    memset(&g_hc, 0, sizeof g_hc);
+    g_hl.bin[40] = 900u;
+    g_hl.bin[41] = 500u;
+    g_hl.bin[300] = 700u;
+    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+        g_hc.bin[b] = g_hl.bin[(b + 600u) % HIST_BINS];
+    }
+    hist_match_t m;
+    hist_correlate(&g_hc, &g_hl, FX_BAM32_DEG_C(110.0), 225u, 5u, &m);
+    TEST_ASSERT_TRUE(m.count >= 1u);
+    const double got = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u));
+    TEST_ASSERT_TRUE(fabs(got - 120.0) < 0.1);
+    TEST_ASSERT_TRUE(m.candidate[0].correlation > 1073741824 / 1000 * 999); /* c = 1 */
+    /* A centre on the other side of zero: -250 deg is 110 deg. */
+    hist_correlate(&g_hc, &g_hl, FX_BAM32_DEG_C(-250.0), 225u, 5u, &m);
+    TEST_ASSERT_TRUE(m.count >= 1u);
+    TEST_ASSERT_TRUE(fabs(deg_of_bam(fx_bam32_diff(m.candidate[0].rotation,
+                                                     FX_BAM32_DEG_C(120.0)))) < 0.1);
+    /* Around 0 with +-45 deg the true shift is out of reach. */
+    hist_correlate(&g_hc, &g_hl, 0u, 225u, 5u, &m);
+    for (uint8_t k = 0u; k < m.count; k++) {
+        const double r = deg_of_bam(fx_bam32_diff(m.candidate[k].rotation, 0u));
+        TEST_ASSERT_TRUE(fabs(r - 120.0) > 1.0 && fabs(r + 60.0) > 1.0);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -232,5 +264,6 @@ int main(void)
     RUN_TEST(test_hist_correlation_finds_the_rotation);
     RUN_TEST(test_hist_flat_histogram_gives_no_candidate);
     RUN_TEST(test_hist_correlation_of_a_shifted_copy);
+    RUN_TEST(test_hist_correlation_around_a_centre);
     return UNITY_END();
 }
