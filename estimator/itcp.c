@@ -58,6 +58,7 @@ typedef struct {
     uint32_t group_points[2];  /* current points per group, matched or not */
     uint32_t group_inliers[2];
     uint64_t group_fit[2];     /* sum of (inlier_distance^2 - d^2), inliers only, Q32.32 */
+    uint32_t group_seen_through[2]; /* points where the last scan saw empty space */
     uint64_t sum_sq; /* of match distances, Q32.32 */
 } pass_t;
 
@@ -305,8 +306,29 @@ void itcp_sums_add(itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y
     sums_add(&sums->group[on_main ? 0 : 1], x, y, u, v);
 }
 
+/* Did the last scan see through (qx, qy): do its beams on both sides of
+ * that bearing, neighbours with no missing value between them, both reach
+ * more than `margin` beyond it? A current point there lies in space the
+ * last scan saw empty, so the pose that put it there is wrong (or the
+ * point moved). */
+static bool seen_through(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t margin)
+{
+    const ego_scan_t *l = m->last;
+    const int64_t ox = (int64_t)qx - l->origin_x;
+    const int64_t oy = (int64_t)qy - l->origin_y;
+    const uint16_t j = lower_bound(m, fx_bam32_diff(fx_atan2(oy, ox), m->ref));
+    if (j == 0u || j >= l->count || (l->flags[j - 1u] & EGO_LINK_GAP) != 0u) {
+        return false;
+    }
+    const int64_t r = (int64_t)fx_sqrt_u64((uint64_t)(ox * ox + oy * oy)) + margin;
+    const uint64_t r_sq = (uint64_t)(r * r);
+    return range_sq(l, (uint16_t)(j - 1u)) > r_sq && range_sq(l, j) > r_sq;
+}
+
+/* with_free_space: also count the points the last scan saw through
+ * (statistics only). */
 static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_t *pose,
-                      pass_t *pass)
+                      bool with_free_space, pass_t *pass)
 {
     memset(pass, 0, sizeof *pass);
     fx_q2_30_t s;
@@ -324,6 +346,9 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
             has_tc && line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
         const unsigned g = on_main ? 0u : 1u;
         pass->group_points[g]++;
+        if (with_free_space && seen_through(m, qx, qy, 2 * m->params->inlier_distance)) {
+            pass->group_seen_through[g]++;
+        }
         const match_t best = find_match(m, qx, qy, has_tc, tc);
         if (!best.found) {
             continue;
@@ -498,7 +523,7 @@ static itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp
     itcp_status_t status = ITCP_OK;
     *converged = false;
     for (uint8_t it = 0u; it < params->max_iterations; it++) {
-        match_all(m, current, &pose, pass);
+        match_all(m, current, &pose, false, pass);
         if (pass->sums.group[0].n + pass->sums.group[1].n < params->min_matches) {
             status = ITCP_ERR_FEW_MATCHES;
             break;
@@ -589,7 +614,7 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
 
     /* Statistics at the final pose, with the smallest radius. */
     m.radius = params->radius_min;
-    match_all(&m, current, &pose, &pass);
+    match_all(&m, current, &pose, true, &pass);
     const int64_t matches = pass.sums.group[0].n + pass.sums.group[1].n;
     result->matches = (uint16_t)matches;
     result->n_main = (uint16_t)pass.sums.group[0].n;
@@ -602,9 +627,13 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
         result->group_inliers[g] = (uint16_t)pass.group_inliers[g];
         /* fit / (points * inlier_sq) in Q2.30; fit <= points * inlier_sq
          * < 2^16 * 2^34 (inlier_distance < 2 m). */
+        /* A point in space the last scan saw empty costs what a perfect
+         * inlier gains. */
         const uint64_t full = (uint64_t)pass.group_points[g] * inlier_sq;
+        const uint64_t penalty = (uint64_t)pass.group_seen_through[g] * inlier_sq;
+        const uint64_t fit = (pass.group_fit[g] > penalty) ? pass.group_fit[g] - penalty : 0u;
         result->group_fit[g] =
-            (full == 0u) ? 0 : (fx_q2_30_t)((pass.group_fit[g] >> 4) * (1ull << 30) / (full >> 4));
+            (full == 0u) ? 0 : (fx_q2_30_t)((fit >> 4) * (1ull << 30) / (full >> 4));
     }
     if (matches > 0) {
         result->residual = (fx_q16_16_t)fx_sqrt_u64(pass.sum_sq / (uint64_t)matches);
