@@ -113,6 +113,7 @@ static uint64_t score_group(const ego_scan_t *last, const ego_scan_t *cur, const
 {
     const uint64_t sigma_sq = (uint64_t)((int64_t)sigma * sigma);
     uint64_t score = 0u;
+    uint64_t penalty = 0u;
     for (uint16_t k = 0u; k < count; k++) {
         const uint16_t i = index[k];
         fx_q16_16_t qx;
@@ -121,9 +122,11 @@ static uint64_t score_group(const ego_scan_t *last, const ego_scan_t *cur, const
         uint64_t d2 = 0u;
         if (itcp_nearest(last, qx, qy, sigma, &d2) && d2 < sigma_sq) {
             score += (sigma_sq - d2) >> 16; /* Q16.16 m^2 per point */
+        } else if (itcp_seen_through(last, qx, qy, 2 * sigma)) {
+            penalty += sigma_sq >> 16; /* in space the last scan saw empty */
         }
     }
-    return score;
+    return (score > penalty) ? score - penalty : 0u;
 }
 
 /* Each group's sum weighted by the other group's size: equal total weight

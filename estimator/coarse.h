@@ -3,10 +3,13 @@
  * started from zero translation does not reach motions of 0.7 m or more
  * (../shared/reference/algorithm-notes.md section 6).
  *
- * Each candidate pose moves an evenly spaced sample of the current scan's
- * points into the last scan's frame and scores them by their distance d to
- * the last scan's surfaces (segments, through the scan order as in ITCP):
- * sum of max(0, sigma^2 - d^2). Candidates: the translations of a square
+ * Each candidate pose moves a sample of the current scan's points (half
+ * on the main direction, half not, evenly spaced within each: coarse.c)
+ * into the last scan's frame and scores them by their distance d to the
+ * last scan's surfaces (segments, through the scan order as in ITCP):
+ * sum of max(0, sigma^2 - d^2), minus sigma^2 for each point matching
+ * nothing where the last scan saw 2 sigma further (empty space), the two
+ * groups weighed equally. Candidates: the translations of a square
  * window of half-width `window` around the centre at `step`, for the
  * centre's rotation and rotation_steps rotations on each side of it
  * rotation_step apart, scored with sigma = max(sigma, step); then, for

@@ -325,6 +325,19 @@ static bool seen_through(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, fx_
     return range_sq(l, (uint16_t)(j - 1u)) > r_sq && range_sq(l, j) > r_sq;
 }
 
+bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
+                       fx_q16_16_t margin)
+{
+    if (last == NULL || last->count == 0u) {
+        return false;
+    }
+    matcher_t m;
+    memset(&m, 0, sizeof m);
+    m.last = last;
+    m.ref = middle_bearing(last);
+    return seen_through(&m, qx, qy, margin);
+}
+
 /* with_free_space: also count the points the last scan saw through
  * (statistics only). */
 static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_t *pose,

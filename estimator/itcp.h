@@ -126,6 +126,11 @@ void itcp_solve(const itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pos
 bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
                   uint64_t *dist_sq);
 
+/* Did the last scan see empty space more than margin beyond (qx, qy)
+ * (its beams on both sides of that bearing reach further)? */
+bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
+                       fx_q16_16_t margin);
+
 /* Registers current against last from *initial. main_direction is the
  * dominant line direction in the last scan's frame (hist_main_direction). */
 itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
