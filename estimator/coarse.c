@@ -39,12 +39,8 @@ typedef struct {
 /* Same rule as ITCP's: tangent directions modulo 180 deg. */
 static bool on_main(const ego_scan_t *cur, uint16_t i, fx_bam32_t main_dir, fx_bam32_t tol)
 {
-    if ((cur->flags[i] & EGO_POINT_HAS_TANGENT) == 0u) {
-        return false;
-    }
-    const uint32_t d = (cur->tangent[i] - main_dir) & (FX_BAM32_HALF - 1u);
-    const uint32_t diff = (d > FX_BAM32_QUARTER) ? FX_BAM32_HALF - d : d;
-    return diff <= tol;
+    return (cur->flags[i] & EGO_POINT_HAS_TANGENT) != 0u &&
+           fx_line_angle_diff(cur->tangent[i], main_dir) <= tol;
 }
 
 #define GROUP_ALL 2u /* take_group: every point, into group 0 */

@@ -156,6 +156,18 @@ static fx_q2_30_t balanced_share(const itcp_result_t *r)
     return (fx_q2_30_t)(((int64_t)r->group_fit[0] + r->group_fit[1]) / 2);
 }
 
+/* The coarse search around centre with cp, then ITCP from what it found. */
+static itcp_status_t search_from(const ego_scan_t *last, const ego_scan_t *current,
+                                 fx_bam32_t main_direction, const ego_pose_t *centre,
+                                 const coarse_params_t *cp, const ego_params_t *params,
+                                 itcp_result_t *r)
+{
+    ego_pose_t found = *centre;
+    uint64_t score = 0u;
+    coarse_search(last, current, main_direction, centre, cp, &found, &score);
+    return register_from(last, current, main_direction, &found, params, r);
+}
+
 /* Is a registration good enough to stop looking: converged with at least
  * accept (or, for skipping the other rotation candidates, stop) of each
  * group's points as inliers. */
@@ -281,12 +293,9 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
                         cp.window = params->coarse_window_first;
                         cp.step = params->coarse_step_first;
                     }
-                    ego_pose_t found = start;
-                    uint64_t score = 0u;
-                    coarse_search(last, current, main_direction, &start, &cp, &found, &score);
                     itcp_result_t rc;
                     const itcp_status_t stc =
-                        register_from(last, current, main_direction, &found, params, &rc);
+                        search_from(last, current, main_direction, &start, &cp, params, &rc);
                     if (better(stc, &rc, st, &r, 0)) {
                         r = rc;
                         st = stc;
@@ -312,13 +321,9 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
             cp.step = params->coarse_step_first;
             cp.rotation_steps = params->sweep_steps;
             cp.rotation_step = params->sweep_step;
-            const ego_pose_t centre = {predicted.theta, predicted.x, predicted.y};
-            ego_pose_t found = centre;
-            uint64_t score = 0u;
-            coarse_search(last, current, main_direction, &centre, &cp, &found, &score);
             itcp_result_t r;
             const itcp_status_t st =
-                register_from(last, current, main_direction, &found, params, &r);
+                search_from(last, current, main_direction, &predicted, &cp, params, &r);
             tried++;
             if (better(st, &r, best_status, &best, 0)) {
                 best = r;

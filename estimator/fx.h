@@ -115,4 +115,12 @@ static inline int32_t fx_bam32_diff(fx_bam32_t a, fx_bam32_t b)
     return -(int32_t)(~d) - 1;
 }
 
+/* Distance between two line directions (modulo 180 deg), as a binary
+ * angle in [0, 90 deg]. */
+static inline fx_bam32_t fx_line_angle_diff(fx_bam32_t a, fx_bam32_t b)
+{
+    const uint32_t d = (a - b) & (FX_BAM32_HALF - 1u);
+    return (d > FX_BAM32_QUARTER) ? FX_BAM32_HALF - d : d;
+}
+
 #endif /* FX_H */

@@ -29,14 +29,6 @@ void itcp_defaults(itcp_params_t *params)
     params->min_matches = 10u;
 }
 
-/* Distance between two line directions, modulo 180 deg, as a binary angle
- * in [0, 90 deg]. */
-static fx_bam32_t line_angle_diff(fx_bam32_t a, fx_bam32_t b)
-{
-    const uint32_t d = (a - b) & (FX_BAM32_HALF - 1u);
-    return (d > FX_BAM32_QUARTER) ? FX_BAM32_HALF - d : d;
-}
-
 static void sums_add(itcp_group_sums_t *s, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
                      fx_q16_16_t v)
 {
@@ -56,7 +48,6 @@ typedef struct {
     itcp_sums_t sums;
     uint32_t inliers;
     uint32_t group_points[2];  /* current points per group, matched or not */
-    uint32_t group_inliers[2];
     uint64_t group_fit[2];     /* sum of (inlier_distance^2 - d^2), inliers only, Q32.32 */
     uint32_t group_seen_through[2]; /* points where the last scan saw empty space */
     uint64_t sum_sq; /* of match distances, Q32.32 */
@@ -204,7 +195,7 @@ static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t
         } else {
             return; /* nothing to compare the tangent with */
         }
-        if (line_angle_diff(tc, tl) > m->params->gate) {
+        if (fx_line_angle_diff(tc, tl) > m->params->gate) {
             return;
         }
     }
@@ -356,7 +347,7 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
         const bool has_tc = (cur->flags[i] & EGO_POINT_HAS_TANGENT) != 0u;
         const fx_bam32_t tc = (cur->tangent[i] + pose->theta) & (FX_BAM32_HALF - 1u);
         const bool on_main =
-            has_tc && line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
+            has_tc && fx_line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
         const unsigned g = on_main ? 0u : 1u;
         pass->group_points[g]++;
         if (with_free_space && seen_through(m, qx, qy, 2 * m->params->inlier_distance)) {
@@ -368,10 +359,10 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
         }
         itcp_sums_add(&pass->sums, on_main, cur->x[i], cur->y[i], best.x, best.y);
         pass->sum_sq += best.dist_sq;
-        const uint32_t inlier = (best.dist_sq <= inlier_sq) ? 1u : 0u;
-        pass->inliers += inlier;
-        pass->group_inliers[g] += inlier;
-        pass->group_fit[g] += (inlier != 0u) ? inlier_sq - best.dist_sq : 0u;
+        if (best.dist_sq <= inlier_sq) {
+            pass->inliers++;
+            pass->group_fit[g] += inlier_sq - best.dist_sq;
+        }
     }
 }
 
@@ -637,7 +628,6 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
         (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
     for (uint8_t g = 0u; g < 2u; g++) {
         result->group_points[g] = (uint16_t)pass.group_points[g];
-        result->group_inliers[g] = (uint16_t)pass.group_inliers[g];
         /* fit / (points * inlier_sq) in Q2.30; fit <= points * inlier_sq
          * < 2^16 * 2^34 (inlier_distance < 2 m). */
         /* A point in space the last scan saw empty costs what a perfect

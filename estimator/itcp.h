@@ -86,7 +86,6 @@ typedef struct {
     uint16_t inliers;        /* matches within inlier_distance at the final pose */
     uint16_t group_points[2];  /* current points on the main direction [0] and
                                   the others [1], matched or not */
-    uint16_t group_inliers[2]; /* their inliers */
     fx_q2_30_t group_fit[2];   /* their soft inlier share: mean over the group's points
                                   of max(0, 1 - d^2 / inlier_distance^2), 0..1 */
     fx_q16_16_t residual;    /* RMS match distance at the final pose, m */
