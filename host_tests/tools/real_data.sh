@@ -101,6 +101,9 @@ done
                 awk '/^#/ { print; next } { if ($12 < $10) lower++ }
                      END { print "# estimate score below the reference score in", lower + 0 }'
         done
+        echo "== $log stride 1 no-prior: all pairs (is the median limited by the reference?)"
+        /usr/bin/python3 "$here/pair_fit.py" "$shared/data/$log-corrected.log.gz" \
+            "$out/$log-stride1-no-prior.pairs" --shared-tools "$shared/tools" | tail -n 1
     done
 } > "$out/summary.txt"
 
