@@ -11,12 +11,12 @@ if(NOT LMSEGO_ARM_GCC)
 endif()
 
 set(LMSEGO_PORTABLE_SOURCES ${LMS_DRIVER_SOURCES_ABS} ${LMS_ESTIMATOR_SOURCES_ABS}
-    ${EGO_FIRMWARE_SOURCES_ABS})
+    ${EGO_FIRMWARE_SOURCES_ABS} ${PROJECT_SOURCE_DIR}/driver/sim/lms_sim.c)
 add_test(NAME portable_cortex_m3
     COMMAND ${CMAKE_COMMAND}
         -DCC=${LMSEGO_ARM_GCC}
         "-DSOURCES=${LMSEGO_PORTABLE_SOURCES}"
-        "-DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/driver;${PROJECT_SOURCE_DIR}/estimator;${PROJECT_SOURCE_DIR}/firmware"
+        "-DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/driver;${PROJECT_SOURCE_DIR}/driver/sim;${PROJECT_SOURCE_DIR}/estimator;${PROJECT_SOURCE_DIR}/firmware"
         -DOUT_DIR=${CMAKE_BINARY_DIR}/portable_cortex_m3
         -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
 set_tests_properties(portable_cortex_m3 PROPERTIES LABELS "portability")

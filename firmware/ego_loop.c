@@ -105,7 +105,7 @@ static void write_line(const ego_hal_t *hal, const line_t *l)
 static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
 {
     const uint32_t k = loop->stats.scans++;
-    if (loop->period_us == 0u && !loop->config.use_clock) {
+    if (loop->period_us == 0u) {
         loop->period_us = mode_period_us(loop->scan.count);
     }
     if (k == 0u) {
@@ -153,6 +153,24 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
     loop->stats.restarts += (out.flags & EGO_FLAG_FIRST) ? 1u : 0u;
 }
 
+void ego_loop_telegram(ego_loop_t *loop, const ego_hal_t *hal, const uint8_t *telegram, size_t len,
+                       uint32_t arrival_us)
+{
+    if (telegram == NULL || len <= LMS_HEADER_SIZE || telegram[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
+        return;
+    }
+    if (lms_decode_scan(telegram, len, &loop->scan) != LMS_OK) {
+        loop->stats.decode_errors++;
+        return;
+    }
+    on_scan(loop, hal, arrival_us);
+}
+
+void ego_loop_gap(ego_loop_t *loop)
+{
+    ego_reset(&loop->ego);
+}
+
 static void on_event(ego_loop_t *loop, const ego_hal_t *hal, lms_framer_event_t ev,
                      uint32_t arrival_us)
 {
@@ -161,14 +179,7 @@ static void on_event(ego_loop_t *loop, const ego_hal_t *hal, lms_framer_event_t 
     }
     size_t len = 0u;
     const uint8_t *t = lms_framer_telegram(&loop->framer, &len);
-    if (t == NULL || len <= LMS_HEADER_SIZE || t[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
-        return;
-    }
-    if (lms_decode_scan(t, len, &loop->scan) != LMS_OK) {
-        loop->stats.decode_errors++;
-        return;
-    }
-    on_scan(loop, hal, arrival_us);
+    ego_loop_telegram(loop, hal, t, len, arrival_us);
 }
 
 ego_loop_status_t ego_loop_step(ego_loop_t *loop, const ego_hal_t *hal)

@@ -105,6 +105,18 @@ typedef enum {
 /* One round: at most EGO_LOOP_READ_CHUNK bytes. */
 ego_loop_status_t ego_loop_step(ego_loop_t *loop, const ego_hal_t *hal);
 
+/* Live input, when something else reads the line (the session of `lmsego
+ * run`, a firmware with a session): one CRC-checked telegram taken at
+ * time_us (with use_clock; the caller's clock, e.g. counted scan
+ * intervals). B0 telegrams go through the decoder and the estimator like
+ * those of ego_loop_step; others are ignored. Uses hal->write only. */
+void ego_loop_telegram(ego_loop_t *loop, const ego_hal_t *hal, const uint8_t *telegram, size_t len,
+                       uint32_t arrival_us);
+
+/* The line was lost and brought up again: the next scan starts over (no
+ * motion is matched across the gap; its line carries EGO_FLAG_FIRST). */
+void ego_loop_gap(ego_loop_t *loop);
+
 const ego_loop_stats_t *ego_loop_stats(const ego_loop_t *loop);
 
 /* Formats value / 10^decimals ("-1.250000"), rounded already by the

@@ -4,6 +4,7 @@
 #include "lms_proto.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -138,5 +139,54 @@ int cli_parse_whole(const char *text, unsigned long min, unsigned long max, unsi
         return -1;
     }
     *out = k;
+    return 0;
+}
+
+/* A finite double from text, the whole text. */
+int cli_parse_double(const char *text, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    const double v = strtod(text, &end);
+    if (end == text || *end != '\0' || errno != 0 || !isfinite(v)) {
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+/* "X,Y,THETA_DEG" -> the mounting pose. */
+int cli_parse_mount(const char *text, ego_prep_params_t *prep)
+{
+    char buf[96];
+    if (strlen(text) >= sizeof buf) {
+        return -1;
+    }
+    (void)memcpy(buf, text, strlen(text) + 1u);
+    char *parts[3];
+    char *p = buf;
+    for (int i = 0; i < 3; i++) {
+        parts[i] = p;
+        char *comma = strchr(p, ',');
+        if ((i < 2) != (comma != NULL)) {
+            return -1;
+        }
+        if (comma != NULL) {
+            *comma = '\0';
+            p = comma + 1;
+        }
+    }
+    double x;
+    double y;
+    double deg;
+    if (cli_parse_double(parts[0], &x) != 0 || cli_parse_double(parts[1], &y) != 0 ||
+        cli_parse_double(parts[2], &deg) != 0 || fabs(x) > 100.0 || fabs(y) > 100.0) {
+        return -1;
+    }
+    prep->mount_x = (fx_q16_16_t)lround(x * 65536.0);
+    prep->mount_y = (fx_q16_16_t)lround(y * 65536.0);
+    double turns = deg / 360.0;
+    turns -= floor(turns);
+    prep->mount_theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
     return 0;
 }

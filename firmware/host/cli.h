@@ -11,6 +11,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "ego.h"
+
 /* Exit codes of lmsego and of every subcommand. */
 #define CLI_EXIT_OK 0      /* success */
 #define CLI_EXIT_RUNTIME 1 /* the input could not be read, output failed, ... */
@@ -64,5 +66,12 @@ int cli_parse_whole(const char *text, unsigned long min, unsigned long max, unsi
  * it does not know, or a second file, is a usage error (its exit code is
  * returned); CLI_EXIT_OK when *path took arg. */
 int cli_take_file(const cli_command_t *cmd, const char *arg, const char **path);
+
+/* A finite double, the whole text. Returns 0 on success. */
+int cli_parse_double(const char *text, double *out);
+
+/* --mount "X,Y,THETA_DEG" (m, m, deg; |X|, |Y| <= 100) -> the mounting
+ * pose of the scanner on the vehicle. Returns 0 on success. */
+int cli_parse_mount(const char *text, ego_prep_params_t *prep);
 
 #endif /* LMSEGO_CLI_H */

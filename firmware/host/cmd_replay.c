@@ -209,55 +209,6 @@ static uint32_t hal_now_us(void *ctx)
     return 0u; /* replay times scans by their index and the period */
 }
 
-/* A finite double from text, the whole text. */
-static int parse_double(const char *text, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    const double v = strtod(text, &end);
-    if (end == text || *end != '\0' || errno != 0 || !isfinite(v)) {
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-/* "X,Y,THETA_DEG" -> the mounting pose. */
-static int parse_mount(const char *text, ego_prep_params_t *prep)
-{
-    char buf[96];
-    if (strlen(text) >= sizeof buf) {
-        return -1;
-    }
-    (void)memcpy(buf, text, strlen(text) + 1u);
-    char *parts[3];
-    char *p = buf;
-    for (int i = 0; i < 3; i++) {
-        parts[i] = p;
-        char *comma = strchr(p, ',');
-        if ((i < 2) != (comma != NULL)) {
-            return -1;
-        }
-        if (comma != NULL) {
-            *comma = '\0';
-            p = comma + 1;
-        }
-    }
-    double x;
-    double y;
-    double deg;
-    if (parse_double(parts[0], &x) != 0 || parse_double(parts[1], &y) != 0 ||
-        parse_double(parts[2], &deg) != 0 || fabs(x) > 100.0 || fabs(y) > 100.0) {
-        return -1;
-    }
-    prep->mount_x = (fx_q16_16_t)lround(x * 65536.0);
-    prep->mount_y = (fx_q16_16_t)lround(y * 65536.0);
-    double turns = deg / 360.0;
-    turns -= floor(turns);
-    prep->mount_theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
-    return 0;
-}
-
 static int parse_hist(const char *text, hist_kind_t *kind)
 {
     static const struct {
@@ -293,13 +244,13 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         }
         if (strcmp(arg, "--period") == 0) {
             double s;
-            if (value == NULL || parse_double(value, &s) != 0 || s <= 0.0 || s > 10.0) {
+            if (value == NULL || cli_parse_double(value, &s) != 0 || s <= 0.0 || s > 10.0) {
                 return cli_usage_error(self, "invalid --period", value, "seconds, 0 < S <= 10");
             }
             config.period_us = (uint32_t)lround(s * 1e6);
             i++;
         } else if (strcmp(arg, "--mount") == 0) {
-            if (value == NULL || parse_mount(value, &config.ego.prep) != 0) {
+            if (value == NULL || cli_parse_mount(value, &config.ego.prep) != 0) {
                 return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
             }
             i++;

@@ -18,4 +18,16 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv);
 /* lmsego import-carmen LOG -o STREAM [--odometry OUT] [--no-return M]. */
 int cmd_import_carmen(const cli_command_t *self, int argc, char **argv);
 
+/* lmsego run --port DEV ...: a live scanner, ego-motion CSV (cmd_run.c). */
+int cmd_run(const cli_command_t *self, int argc, char **argv);
+
+/* lmsego record --port DEV ... -o FILE: the raw stream with arrival times. */
+int cmd_record(const cli_command_t *self, int argc, char **argv);
+
+/* lmsego sim ...: a simulated LMS 2xx on a pseudo-terminal (cmd_sim.c). */
+int cmd_sim(const cli_command_t *self, int argc, char **argv);
+
+/* lmsego play FILE --pty | --port DEV: hardware-in-loop replay. */
+int cmd_play(const cli_command_t *self, int argc, char **argv);
+
 #endif /* LMSEGO_COMMANDS_H */

@@ -23,6 +23,21 @@ static const cli_command_t commands[] = {
     {"import-carmen", "LOG -o STREAM [--odometry OUT] [--no-return M] [--stride K] [--offset O]",
      "convert a CARMEN laser log (plain or .gz) into an LMS 2xx telegram stream",
      cmd_import_carmen},
+    {"run",
+     "--port DEV [--baud B] [--variant DEG,RES] [--units cm|mm] [--mode HEX] [--partial] "
+     "[--address A] [--power-wait S] [--mount X,Y,DEG] [--scans N]",
+     "bring a live scanner up and print its ego-motion CSV, one line per scan", cmd_run},
+    {"record",
+     "--port DEV [--baud B] [--variant DEG,RES] [--units cm|mm] [--mode HEX] [--partial] "
+     "[--address A] [--power-wait S] -o FILE [--scans N]",
+     "bring a live scanner up and record its stream with arrival times", cmd_record},
+    {"sim",
+     "[--baud B] [--source STREAM] [--faults SPEC] [--rate X] [--link PATH] [--address A] "
+     "[--units cm|mm] [--power-delay MS] [--scans N]",
+     "a simulated LMS 2xx on a pseudo-terminal (its path is the first output line)", cmd_sim},
+    {"play", "FILE (--pty [--link PATH] | --port DEV) [--rate X] [--loop]",
+     "hardware-in-loop replay: act as the scanner and play a recording with its timing",
+     cmd_play},
 };
 
 #define COMMAND_COUNT (sizeof commands / sizeof commands[0])
@@ -32,8 +47,9 @@ static void print_usage(void)
     (void)puts("usage: lmsego <command> [options] FILE\n"
                "       lmsego --help | <command> --help\n"
                "\n"
-               "Reads SICK LMS 2xx telegram streams recorded off the serial line\n"
-               "(the raw bytes the scanner sent). FILE '-' reads standard input.\n"
+               "Turns the telegram stream of a SICK LMS 2xx into ego-motion: from a\n"
+               "recording (the raw bytes the scanner sent, or an `lmsego record` file;\n"
+               "FILE '-' reads standard input) or from a live scanner on a serial port.\n"
                "\n"
                "commands:");
     for (size_t i = 0u; i < COMMAND_COUNT; i++) {

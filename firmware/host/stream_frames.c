@@ -101,14 +101,16 @@ int stream_frames_run_path(const char *path, lms_framer_t *framer, stream_telegr
     }
     lms_framer_init(framer, LMS_FROM_SCANNER);
     const stream_frames_result_t result = stream_frames_run(&in, framer, on_telegram, ctx);
-    const int read_error = in.error;
     stream_file_close(&in);
 
+    char why[96];
     switch (result) {
     case STREAM_FRAMES_DONE:
         return CLI_EXIT_OK;
     case STREAM_FRAMES_READ_ERROR:
-        cli_file_error("error reading ", shown, strerror(read_error));
+        /* A malformed recording says what and where, anything else errno. */
+        cli_file_error((in.bad != NULL) ? "bad recording " : "error reading ", shown,
+                       stream_file_problem(&in, why, sizeof why));
         return CLI_EXIT_RUNTIME;
     case STREAM_FRAMES_STUCK:
         cli_file_error("internal error while framing ", shown, "the framer made no progress");

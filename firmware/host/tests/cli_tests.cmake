@@ -198,3 +198,16 @@ lmsego_cli_test(replay_bad_scan_offset ARGS replay --scan-offset -1
             "-DSTDERR_REGEX=invalid --scan-offset '-1'")
 lmsego_cli_test(replay_scan_step_missing ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms --scan-step
     OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--scan-step)
+
+# The live commands end to end over real pseudo-terminals (label "live"):
+# lmsego sim / play as the scanner, run / record as the host. One case of
+# tests/live.sh per test; each works in its own directory.
+if(UNIX)
+    foreach(c stream baud-9600 baud-19200 baud-38400 baud-500000 variant fault-silence
+              fault-power fault-hangup fault-bytes fault-nak record-play sigint)
+        add_test(NAME live_${c}
+            COMMAND sh ${LMSEGO_CLI_DATA}/live.sh $<TARGET_FILE:lmsego>
+                    ${PROJECT_SOURCE_DIR}/host_tests/data ${CMAKE_CURRENT_BINARY_DIR}/live/${c} ${c})
+        set_tests_properties(live_${c} PROPERTIES LABELS "live" TIMEOUT 180)
+    endforeach()
+endif()

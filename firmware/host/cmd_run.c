@@ -1,0 +1,447 @@
+/* cmd_run.c - `lmsego run` and `lmsego record`: a live scanner on a serial
+ * port (host-only).
+ *
+ *   lmsego run --port DEV [--baud B] [--variant DEG,RES] [--units cm|mm]
+ *              [--mode HEX] [--partial] [--address A] [--power-wait S]
+ *              [--mount X,Y,DEG] [--scans N]
+ *   lmsego record --port DEV [same bring-up options] -o FILE [--scans N]
+ *
+ * Both open the port (driver/posix/lms_serial), run the session
+ * (driver/lms_session) until the scanner streams, and then:
+ * - run: feeds every B0 to the firmware loop and prints the same CSV as
+ *   `lmsego replay`, one line per scan. Scan times count scan intervals
+ *   (lms_session_scan_interval_us), not the host clock, which a busy host
+ *   reads late: each scan is one interval after the last, plus one per
+ *   telegram the framer saw damaged in between; only across a restart does
+ *   the host clock say how many intervals passed. So on a line that loses
+ *   nothing the output is byte-identical to `lmsego replay` of the same
+ *   stream;
+ * - record: writes every byte read while streaming, with its arrival time,
+ *   to a recording (firmware/host/recording.h) that stats, scans and
+ *   replay read.
+ * A restart of the session (silence, power-on telegram, hang-up) is
+ * reported on stderr and resets the estimator (ego_loop_gap). A hang-up
+ * closes the port and reopens it every 200 ms until it comes back.
+ * SIGINT / SIGTERM (or --scans N reached) stop cleanly: stream off (20 25)
+ * and the scanner back at 9600 baud, where the next start finds it fast.
+ * Exit status: 0 after a clean stop, 1 when the port cannot be used or the
+ * scanner refuses a setting, 2 for a bad command line. The last stderr line
+ * holds the counters.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "commands.h"
+#include "ego_loop.h"
+#include "lms_serial.h"
+#include "live_common.h"
+#include "lms_session.h"
+#include "recording.h"
+
+#define REOPEN_INTERVAL_MS 200
+#define POLL_MAX_MS 100
+
+typedef struct {
+    lms_serial_t port;
+    int write_failed;   /* to the scanner */
+    int out_failed;     /* stdout */
+    uint64_t t0_us;
+} live_io_t;
+
+static void io_write(void *ctx, const uint8_t *bytes, size_t len)
+{
+    live_io_t *io = ctx;
+    if (io->port.fd >= 0 && lms_serial_write(&io->port, bytes, len) != LMS_SERIAL_OK) {
+        io->write_failed = 1; /* the read side sees the hang-up and recovers */
+    }
+}
+
+static void io_set_baud(void *ctx, lms_baud_t baud)
+{
+    live_io_t *io = ctx;
+    if (io->port.fd >= 0) {
+        (void)lms_serial_set_baud(&io->port, baud);
+    }
+}
+
+/* The HAL's read: the loop never reads here (the session owns the line);
+ * buf cannot be const, the HAL type is shared with ego_loop_step. */
+static int32_t hal_read_none(void *ctx, uint8_t *buf, size_t cap) // NOLINT(readability-non-const-parameter)
+{
+    (void)ctx;
+    (void)buf;
+    (void)cap;
+    return 0; /* the session reads the line, not the loop */
+}
+
+static void hal_write(void *ctx, const uint8_t *buf, size_t len)
+{
+    live_io_t *io = ctx;
+    if (fwrite(buf, 1u, len, stdout) != len || fflush(stdout) != 0) {
+        io->out_failed = 1;
+    }
+}
+
+static uint32_t hal_now_us(void *ctx)
+{
+    const live_io_t *io = ctx;
+    return (uint32_t)(live_monotonic_us() - io->t0_us);
+}
+
+/* "180,0.5" -> 180 deg, 50 cdeg; only the five legal pairs. */
+static int parse_variant(const char *text, uint16_t *angle, uint16_t *res)
+{
+    static const struct {
+        const char *name;
+        uint16_t angle, res;
+    } v[] = {{"180,1", 180u, 100u}, {"180,0.5", 180u, 50u}, {"100,1", 100u, 100u},
+             {"100,0.5", 100u, 50u}, {"100,0.25", 100u, 25u}};
+    for (size_t i = 0u; text != NULL && i < sizeof v / sizeof v[0]; i++) {
+        if (strcmp(text, v[i].name) == 0) {
+            *angle = v[i].angle;
+            *res = v[i].res;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+typedef struct {
+    const char *port;
+    const char *out_path;  /* record */
+    unsigned long scans;   /* 0: until a signal */
+    lms_session_config_t session;
+    ego_loop_config_t loop;
+} live_options_t;
+
+/* parse_options: --help was printed, nothing else to do. */
+#define PARSED_HELP (-1)
+
+/* Parses the options of run (record false) or record: 0, PARSED_HELP or
+ * an exit code. */
+static int parse_options(const cli_command_t *self, int argc, char **argv, bool record,
+                         live_options_t *o)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
+        if (arg == NULL) {
+            break;
+        }
+        if (cli_is_help(arg)) {
+            cli_print_command_usage(self);
+            return cli_finish_stdout() ? PARSED_HELP : CLI_EXIT_RUNTIME;
+        }
+        if (strcmp(arg, "--port") == 0 && value != NULL) {
+            o->port = value;
+        } else if (strcmp(arg, "--baud") == 0) {
+            if (live_parse_baud(value, &o->session.baud) != 0) {
+                return cli_usage_error(self, "invalid --baud", value,
+                                       "9600, 19200, 38400 or 500000");
+            }
+        } else if (strcmp(arg, "--variant") == 0) {
+            if (parse_variant(value, &o->session.angle_deg, &o->session.resolution_cdeg) != 0) {
+                return cli_usage_error(self, "invalid --variant", value,
+                                       "180,1 180,0.5 100,1 100,0.5 or 100,0.25");
+            }
+        } else if (strcmp(arg, "--units") == 0) {
+            lms_unit_t unit = LMS_UNIT_CM;
+            if (live_parse_unit(value, &unit) != 0) {
+                return cli_usage_error(self, "invalid --units", value, "cm or mm");
+            }
+            o->session.unit = (uint8_t)unit;
+        } else if (strcmp(arg, "--mode") == 0) {
+            if (value == NULL || cli_parse_meas_mode(value, &o->session.meas_mode) != 0) {
+                return cli_usage_error(self, "invalid --mode", value, "expected 00..06 or 0F");
+            }
+            o->loop.ego.prep.meas_mode = o->session.meas_mode;
+        } else if (strcmp(arg, "--partial") == 0) {
+            o->session.partial = true;
+            continue;
+        } else if (strcmp(arg, "--address") == 0) {
+            unsigned long a = 0u;
+            if (cli_parse_whole(value, 0u, 127u, &a) != 0) {
+                return cli_usage_error(self, "invalid --address", value, "0..127");
+            }
+            o->session.address = (uint8_t)a;
+        } else if (strcmp(arg, "--power-wait") == 0) {
+            unsigned long s = 0u;
+            if (cli_parse_whole(value, 0u, 120u, &s) != 0) {
+                return cli_usage_error(self, "invalid --power-wait", value, "seconds, 0..120");
+            }
+            o->session.power_wait_us = (uint32_t)(s * 1000000u);
+        } else if (strcmp(arg, "--scans") == 0) {
+            if (cli_parse_whole(value, 1u, 1000000000u, &o->scans) != 0) {
+                return cli_usage_error(self, "invalid --scans", value, "1..1000000000");
+            }
+        } else if (!record && strcmp(arg, "--mount") == 0) {
+            if (value == NULL || cli_parse_mount(value, &o->loop.ego.prep) != 0) {
+                return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
+            }
+        } else if (record && strcmp(arg, "-o") == 0 && value != NULL) {
+            o->out_path = value;
+        } else if (strcmp(arg, "--port") == 0 || strcmp(arg, "-o") == 0) {
+            return cli_usage_error(self, "missing value after", arg, NULL);
+        } else {
+            return cli_usage_error(self, "unknown option", arg, NULL);
+        }
+        i++; /* every option left here took a value */
+    }
+    if (o->port == NULL) {
+        return cli_usage_error(self, "missing --port DEV", NULL, NULL);
+    }
+    if (record && o->out_path == NULL) {
+        return cli_usage_error(self, "missing -o FILE", NULL, NULL);
+    }
+    return 0;
+}
+
+static void report_session(const lms_session_t *s, const char *what)
+{
+    const lms_session_stats_t *st = lms_session_stats(s);
+    const lms_framer_stats_t *fs = lms_session_framer_stats(s);
+    (void)fprintf(stderr,
+                  "lmsego: %s: scans=%lu bring_ups=%lu restarts=%lu (silence %lu, power-on %lu, "
+                  "link %lu) commands=%lu retries=%lu naks=%lu not_acks=%lu ack_timeouts=%lu "
+                  "reply_timeouts=%lu probes=%lu crc_errors=%lu bytes_skipped=%lu\n",
+                  what, (unsigned long)st->scans, (unsigned long)st->bring_ups,
+                  (unsigned long)st->restarts, (unsigned long)st->restarts_silence,
+                  (unsigned long)st->restarts_power_on, (unsigned long)st->restarts_link,
+                  (unsigned long)st->commands, (unsigned long)st->retries,
+                  (unsigned long)st->naks, (unsigned long)st->not_acks,
+                  (unsigned long)st->ack_timeouts, (unsigned long)st->reply_timeouts,
+                  (unsigned long)st->probes, (unsigned long)fs->crc_errors,
+                  (unsigned long)fs->bytes_skipped);
+}
+
+static const char *cause_text(lms_session_cause_t c)
+{
+    switch (c) {
+    case LMS_SESSION_CAUSE_SILENCE:
+        return "no scans";
+    case LMS_SESSION_CAUSE_POWER_ON:
+        return "power-on telegram";
+    case LMS_SESSION_CAUSE_LINK:
+        return "line hung up";
+    default:
+        return "?";
+    }
+}
+
+/* Scan times (see the header comment). */
+typedef struct {
+    bool started;
+    bool restarted;          /* a restart since the last scan */
+    uint32_t time_us;        /* time of the last scan */
+    uint32_t arrival_us;     /* host clock at its arrival */
+    uint32_t damaged;        /* framer errors counted at the last scan */
+} scan_clock_t;
+
+static uint32_t framer_damage(const lms_session_t *s)
+{
+    const lms_framer_stats_t *f = lms_session_framer_stats(s);
+    return f->crc_errors + f->length_errors + f->truncated;
+}
+
+static uint32_t scan_time(scan_clock_t *c, const lms_session_t *s, uint32_t now_us)
+{
+    const uint32_t interval = lms_session_scan_interval_us(s);
+    const uint32_t damaged = framer_damage(s);
+    if (!c->started) {
+        c->started = true;
+        c->time_us = 0u;
+    } else if (c->restarted) {
+        const uint32_t n = (now_us - c->arrival_us + interval / 2u) / interval;
+        c->time_us += (n == 0u ? 1u : n) * interval;
+    } else {
+        uint32_t lost = damaged - c->damaged;
+        lost = lost > 8u ? 8u : lost; /* more would have been a restart */
+        c->time_us += (1u + lost) * interval;
+    }
+    c->restarted = false;
+    c->arrival_us = now_us;
+    c->damaged = damaged;
+    return c->time_us;
+}
+
+/* The whole live job; record selects the mode. */
+static int live(const cli_command_t *self, int argc, char **argv, bool record)
+{
+    static live_options_t o;
+    static live_io_t io;
+    static lms_session_t session;
+    static ego_loop_t loop;
+    static scan_clock_t clock;
+    memset(&clock, 0, sizeof clock);
+    memset(&o, 0, sizeof o);
+    memset(&io, 0, sizeof io);
+    lms_session_defaults(&o.session);
+    ego_loop_defaults(&o.loop);
+    o.loop.use_clock = true; /* with the counted times of scan_time() */
+    const int rc = parse_options(self, argc, argv, record, &o);
+    if (rc == PARSED_HELP) {
+        return CLI_EXIT_OK; /* --help */
+    }
+    if (rc != 0) {
+        return rc;
+    }
+    recording_writer_t rec;
+    memset(&rec, 0, sizeof rec);
+    const int open_error = record ? recording_writer_open(&rec, o.out_path) : 0;
+    if (open_error != 0) {
+        cli_file_error("cannot create ", o.out_path, strerror(open_error));
+        return CLI_EXIT_RUNTIME;
+    }
+    io.port.fd = -1;
+    io.t0_us = live_monotonic_us();
+    lms_serial_status_t ps = lms_serial_open(&io.port, o.port, LMS_BAUD_9600);
+    if (ps != LMS_SERIAL_OK) {
+        cli_file_error("cannot open ", o.port, lms_serial_status_name(ps));
+        if (record) {
+            (void)recording_writer_close(&rec);
+        }
+        return CLI_EXIT_RUNTIME;
+    }
+    live_catch_stop_signals();
+
+    const lms_session_io_t sio = {io_write, io_set_baud, &io};
+    const ego_hal_t hal = {hal_read_none, hal_write, hal_now_us, &io};
+    ego_loop_init(&loop, &o.loop);
+    if (lms_session_init(&session, &o.session, &sio, hal_now_us(&io)) != LMS_OK) {
+        cli_error("invalid session settings");
+        lms_serial_close(&io.port);
+        return CLI_EXIT_RUNTIME;
+    }
+    int status = CLI_EXIT_OK;
+    bool stopping = false;
+    bool done = false;
+    uint64_t next_reopen_us = 0u;
+    static uint8_t buf[4096];
+    while (!done) {
+        if ((live_stop_requested() || (o.scans > 0u && lms_session_stats(&session)->scans >= o.scans)) &&
+            !stopping) {
+            stopping = true;
+            lms_session_stop(&session, hal_now_us(&io));
+        }
+        size_t got = 0u;
+        if (io.port.fd < 0) {
+            /* Hung up: try the device again every REOPEN_INTERVAL_MS. */
+            const uint64_t t = live_monotonic_us();
+            if (stopping) {
+                break;
+            }
+            if (t >= next_reopen_us) {
+                next_reopen_us = t + REOPEN_INTERVAL_MS * 1000u;
+                if (lms_serial_open(&io.port, o.port, LMS_BAUD_9600) == LMS_SERIAL_OK) {
+                    (void)fprintf(stderr, "lmsego: %s: port reopened\n", self->name);
+                    lms_session_link_lost(&session, hal_now_us(&io));
+                }
+            }
+            if (io.port.fd < 0) {
+                struct timespec nap = {0, 20 * 1000000L}; /* waiting for a device, not for data */
+                (void)nanosleep(&nap, NULL);
+                continue;
+            }
+        }
+        const uint32_t wait = lms_session_wait_us(&session, hal_now_us(&io));
+        int timeout_ms = (int)(wait / 1000u) + (wait % 1000u != 0u ? 1 : 0);
+        timeout_ms = timeout_ms > POLL_MAX_MS ? POLL_MAX_MS : timeout_ms;
+        ps = lms_serial_read(&io.port, buf, sizeof buf, timeout_ms, &got);
+        const uint64_t read_us = live_monotonic_us() - io.t0_us;
+        const uint32_t now = (uint32_t)read_us;
+        if (ps == LMS_SERIAL_HANGUP) {
+            (void)fprintf(stderr, "lmsego: %s: %s hung up; reopening\n", self->name, o.port);
+            lms_serial_close(&io.port);
+            lms_session_link_lost(&session, now);
+            got = 0u;
+        } else if (ps < 0) {
+            cli_file_error("error reading ", o.port, lms_serial_status_name(ps));
+            status = CLI_EXIT_RUNTIME;
+            break;
+        }
+        const bool was_streaming = lms_session_state(&session) == LMS_SESSION_STREAMING;
+        size_t rec_from = was_streaming ? 0u : got;
+        size_t off = 0u;
+        for (int phase = 0; phase < 2; phase++) {
+            /* phase 0: the bytes just read; phase 1: the timers. Each call
+             * reports one event; loop until there is none. */
+            for (;;) {
+                lms_session_event_t ev;
+                if (phase == 0) {
+                    size_t used = 0u;
+                    ev = lms_session_feed(&session, buf + off, got - off, &used, now);
+                    off += used;
+                } else {
+                    ev = lms_session_poll(&session, now);
+                }
+                if (ev == LMS_SESSION_EV_NONE) {
+                    break;
+                }
+                if (ev == LMS_SESSION_EV_SCAN) {
+                    size_t len = 0u;
+                    const uint8_t *t = lms_session_telegram(&session, &len);
+                    const uint32_t t_us = scan_time(&clock, &session, now);
+                    if (!record) {
+                        ego_loop_telegram(&loop, &hal, t, len, t_us);
+                    }
+                } else if (ev == LMS_SESSION_EV_STREAMING) {
+                    const lms_session_info_t *in = lms_session_info(&session);
+                    (void)fprintf(stderr,
+                                  "lmsego: %s: streaming: '%s' at %s baud, %u deg / %u.%02u deg, "
+                                  "%s\n",
+                                  self->name, in->type_text, live_baud_name(in->baud),
+                                  (unsigned)in->angle_deg, in->resolution_cdeg / 100u,
+                                  in->resolution_cdeg % 100u, in->units == 1u ? "mm" : "cm");
+                    if (phase == 0 && !was_streaming) {
+                        rec_from = off;
+                    }
+                } else if (ev == LMS_SESSION_EV_RESTART) {
+                    (void)fprintf(stderr, "lmsego: %s: link lost (%s); bringing the scanner up again\n",
+                                  self->name, cause_text(lms_session_cause(&session)));
+                    ego_loop_gap(&loop);
+                    clock.restarted = true;
+                } else if (ev == LMS_SESSION_EV_STOPPED) {
+                    done = true;
+                } else if (ev == LMS_SESSION_EV_FAILED) {
+                    cli_error(lms_session_error_name(lms_session_error(&session)));
+                    status = CLI_EXIT_RUNTIME;
+                    done = true;
+                }
+            }
+        }
+        const int rec_error = (record && got > rec_from)
+                                  ? recording_writer_append(&rec, read_us, buf + rec_from,
+                                                            got - rec_from)
+                                  : 0;
+        if (rec_error != 0) {
+            cli_file_error("error writing ", o.out_path, strerror(rec_error));
+            status = CLI_EXIT_RUNTIME;
+            break;
+        }
+        if (io.out_failed) {
+            cli_error("write error on standard output");
+            status = CLI_EXIT_RUNTIME;
+            break;
+        }
+    }
+    report_session(&session, self->name);
+    lms_serial_close(&io.port);
+    const int close_error = record ? recording_writer_close(&rec) : 0;
+    if (close_error != 0) {
+        cli_file_error("error writing ", o.out_path, strerror(close_error));
+        status = CLI_EXIT_RUNTIME;
+    }
+    return status;
+}
+
+int cmd_run(const cli_command_t *self, int argc, char **argv)
+{
+    return live(self, argc, argv, false);
+}
+
+int cmd_record(const cli_command_t *self, int argc, char **argv)
+{
+    return live(self, argc, argv, true);
+}

@@ -1,0 +1,544 @@
+/* cmd_sim.c - `lmsego sim` and `lmsego play`: a simulated LMS 2xx on a
+ * pseudo-terminal (or, for play, a real serial port), host-only.
+ *
+ *   lmsego sim [--baud B] [--source STREAM] [--faults SPEC] [--rate X]
+ *              [--link PATH] [--address A] [--units cm|mm]
+ *              [--power-delay MS] [--scans N]
+ *   lmsego play FILE (--pty [--link PATH] | --port DEV) [--rate X] [--loop]
+ *
+ * Both run the portable scanner model (driver/sim/lms_sim.h) on the
+ * scanner's end of a line and print the device path a driver should open
+ * as the first line of stdout (flushed at once). The scanner starts at
+ * --baud (its power-on rate; 9600 by default, as from the factory), sends
+ * its power-on telegram after --power-delay ms (default 100), answers the
+ * bring-up and streams:
+ * - sim: scans from STREAM (its B0 telegrams, looped) or, without
+ *   --source, from a built-in synthetic scene (a 6 m x 4 m room, the
+ *   scanner driving an ellipse in it), in the variant and units the
+ *   driver set. --scans N ends the simulator after N streamed scans.
+ * - play: the B0 telegrams of FILE (a raw stream or a recording of
+ *   `lmsego record`) once, with the gaps between them as recorded (raw
+ *   streams: at the scan rate); the scanner only accepts the recording's
+ *   own variant. It ends when the last scan has left; --loop repeats.
+ * On a pseudo-terminal the simulator reads the rate the driver set and
+ * garbles both directions when it differs from its own. On a real port
+ * (--port) it sets the port to its own rate, as a scanner's UART would.
+ * --faults: see lms_sim_parse_faults (drop=PPM,flip=PPM,insert=PPM,
+ * nak=PERCENT,silence=AFTER:MS,power=AFTER,hangup=AFTER,seed=N). A hang-up
+ * closes the pseudo-terminal and opens a new one behind the same --link.
+ * SIGINT / SIGTERM end it; the last stderr line holds the counters.
+ */
+#include <errno.h>
+#include <math.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "live_common.h"
+#include "lms_encode.h"
+#include "lms_framer.h"
+#include "lms_pty.h"
+#include "lms_serial.h"
+#include "lms_sim.h"
+#include "stream_file.h"
+
+/* --- Scan sources ------------------------------------------------------- */
+
+/* The B0 telegrams of a file, with the gap before each (0: scan rate). */
+typedef struct {
+    uint8_t *bytes;      /* all telegrams back to back */
+    size_t *offset;      /* start of telegram k */
+    uint32_t *gap_us;    /* recorded gap before telegram k */
+    size_t count;
+    size_t cap;
+    size_t used;
+    bool loop;
+    bool done;           /* play: the last one was handed out */
+    uint16_t values;     /* N of the first telegram */
+    bool partial;
+} recorded_t;
+
+static int recorded_add(recorded_t *r, const uint8_t *t, size_t len, uint32_t gap_us)
+{
+    if (t == NULL || len == 0u) {
+        return -1;
+    }
+    if (r->count % 256u == 0u) {
+        size_t *o = realloc(r->offset, (r->count + 256u) * sizeof *o);
+        if (o != NULL) {
+            r->offset = o;
+        }
+        uint32_t *g = realloc(r->gap_us, (r->count + 256u) * sizeof *g);
+        if (g != NULL) {
+            r->gap_us = g;
+        }
+        if (o == NULL || g == NULL) {
+            return -1;
+        }
+    }
+    if (r->used + len > r->cap) {
+        const size_t cap = (r->cap + len) * 2u;
+        uint8_t *b = realloc(r->bytes, cap);
+        if (b == NULL) {
+            return -1;
+        }
+        r->bytes = b;
+        r->cap = cap;
+    }
+    if (r->bytes == NULL) {
+        return -1;
+    }
+    memcpy(r->bytes + r->used, t, len);
+    r->offset[r->count] = r->used;
+    r->gap_us[r->count] = gap_us;
+    r->used += len;
+    r->count++;
+    return 0;
+}
+
+static void recorded_free(recorded_t *r)
+{
+    free(r->bytes);
+    free(r->offset);
+    free(r->gap_us);
+    memset(r, 0, sizeof *r);
+}
+
+/* Reads every B0 of path (raw stream or recording). Returns 0, or -1 after
+ * a message. */
+static int recorded_load(recorded_t *r, const char *path)
+{
+    static stream_file_t f;
+    static lms_framer_t fr;
+    static uint8_t chunk[STREAM_FILE_CHUNK];
+    const int e = stream_file_open(&f, path);
+    if (e != 0) {
+        cli_file_error("cannot open ", path, strerror(e));
+        return -1;
+    }
+    lms_framer_init(&fr, LMS_FROM_SCANNER);
+    uint64_t last_time = 0u;
+    int rc = 0;
+    for (bool end = false; !end && rc == 0;) {
+        size_t got = 0u;
+        const stream_read_t rr = stream_file_read(&f, chunk, sizeof chunk, &got);
+        if (rr == STREAM_READ_ERROR) {
+            cli_file_error("error reading ", path, strerror(f.error));
+            rc = -1;
+            break;
+        }
+        end = rr == STREAM_READ_END;
+        size_t off = 0u;
+        for (size_t guard = 0u; guard <= got + LMS_FRAMER_BUF_SIZE + 1u; guard++) {
+            size_t used = 0u;
+            const lms_framer_event_t ev = end ? lms_framer_flush(&fr)
+                                              : lms_framer_feed(&fr, chunk + off, got - off, &used);
+            off += used;
+            if (ev == LMS_FRAMER_NEED_MORE) {
+                break;
+            }
+            size_t len = 0u;
+            const uint8_t *t = lms_framer_telegram(&fr, &len);
+            if (ev != LMS_FRAMER_TELEGRAM || t == NULL || t[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
+                continue;
+            }
+            static lms_scan_t scan;
+            if (lms_decode_scan(t, len, &scan) != LMS_OK) {
+                continue;
+            }
+            if (r->count == 0u) {
+                r->values = scan.count;
+                r->partial = scan.is_partial;
+            }
+            uint32_t gap = 0u;
+            if (f.is_recording && r->count > 0u) {
+                const uint64_t d = f.time_us - last_time;
+                gap = d > 10000000u ? 10000000u : (uint32_t)d;
+            }
+            last_time = f.time_us;
+            if (recorded_add(r, t, len, gap) != 0) {
+                cli_error("out of memory reading the scans");
+                rc = -1;
+                break;
+            }
+        }
+    }
+    stream_file_close(&f);
+    if (rc == 0 && r->count == 0u) {
+        cli_file_error("no scans in ", path, "no valid B0 telegram");
+        rc = -1;
+    }
+    return rc;
+}
+
+static bool recorded_scan(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t resolution_cdeg,
+                          bool partial, lms_unit_t unit, uint8_t reply_address, uint8_t *out,
+                          size_t cap, size_t *len, uint32_t *gap_us)
+{
+    (void)angle_deg;
+    (void)resolution_cdeg;
+    (void)partial;
+    (void)unit;
+    (void)reply_address; /* played verbatim, as recorded */
+    recorded_t *r = ctx;
+    if (!r->loop && k >= r->count) {
+        r->done = true;
+        return false;
+    }
+    const size_t i = k % r->count;
+    const size_t end = i + 1u < r->count ? r->offset[i + 1u] : r->used;
+    const size_t n = end - r->offset[i];
+    if (n > cap) {
+        return false;
+    }
+    memcpy(out, r->bytes + r->offset[i], n);
+    *len = n;
+    *gap_us = i == 0u ? 0u : r->gap_us[i];
+    return true;
+}
+
+/* The built-in scene: a closed 6 m x 4 m room with a pillar, the scanner
+ * on an ellipse around its middle, one turn every 600 scans. Distances
+ * stay below 8 m, so mm units in an 8 m mode hold them. */
+#define ROOM_W 6.0
+#define ROOM_D 4.0
+#define PILLAR_X 4.6
+#define PILLAR_Y 2.9
+#define PILLAR_R 0.25
+#define PI_D 3.14159265358979323846
+
+static double ray_room(double x, double y, double a)
+{
+    const double c = cos(a);
+    const double s = sin(a);
+    double best = 1e9;
+    if (c > 1e-12) {
+        best = fmin(best, (ROOM_W - x) / c);
+    } else if (c < -1e-12) {
+        best = fmin(best, -x / c);
+    }
+    if (s > 1e-12) {
+        best = fmin(best, (ROOM_D - y) / s);
+    } else if (s < -1e-12) {
+        best = fmin(best, -y / s);
+    }
+    /* Pillar: |p + t d - q| = r. */
+    const double px = x - PILLAR_X;
+    const double py = y - PILLAR_Y;
+    const double b = px * c + py * s;
+    const double disc = b * b - (px * px + py * py - PILLAR_R * PILLAR_R);
+    if (disc >= 0.0) {
+        const double t = -b - sqrt(disc);
+        if (t > 0.0) {
+            best = fmin(best, t);
+        }
+    }
+    return best;
+}
+
+static bool synthetic_scan(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t resolution_cdeg,
+                           bool partial, lms_unit_t unit, uint8_t reply_address, uint8_t *out,
+                           size_t cap, size_t *len, uint32_t *gap_us)
+{
+    (void)ctx;
+    static lms_scan_t scan;
+    memset(&scan, 0, sizeof scan);
+    const uint32_t res = partial ? 100u : resolution_cdeg;
+    scan.count = (uint16_t)((uint32_t)angle_deg * 100u / res + 1u);
+    scan.unit = unit;
+    scan.status = 0x10u;
+    scan.is_partial = partial;
+    scan.partial_index = (uint8_t)(partial ? k % 4u : 0u);
+    const double phase = 2.0 * PI_D * (double)(k % 600u) / 600.0;
+    const double x = ROOM_W / 2.0 + 1.2 * cos(phase);
+    const double y = ROOM_D / 2.0 + 0.8 * sin(phase);
+    const double heading = atan2(0.8 * cos(phase), -1.2 * sin(phase));
+    const double start_deg = angle_deg == 100u ? 40.0 : 0.0;
+    const double shift = partial ? 0.25 * (double)scan.partial_index : 0.0;
+    for (uint16_t i = 0u; i < scan.count; i++) {
+        const double deg = start_deg + shift + (double)i * (double)res / 100.0;
+        /* Scanner 90 deg is straight ahead. */
+        const double a = heading + (deg - 90.0) * PI_D / 180.0;
+        const double r = ray_room(x, y, a);
+        const double v = unit == LMS_UNIT_MM ? r * 1000.0 : r * 100.0;
+        scan.values[i] = (uint16_t)(v > 8000.0 ? 8000L : lround(v));
+    }
+    *gap_us = 0u;
+    return lms_encode_scan(out, cap, reply_address, &scan, len) == LMS_OK;
+}
+
+/* --- The line ---------------------------------------------------------- */
+
+typedef struct {
+    bool use_pty;
+    lms_pty_t pty;
+    lms_serial_t port;
+    uint32_t dropped; /* bytes the other end did not take */
+} line_t;
+
+static int line_fd(const line_t *l)
+{
+    return l->use_pty ? l->pty.master : l->port.fd;
+}
+
+typedef struct {
+    const char *source;   /* sim --source / play FILE */
+    const char *link;
+    const char *port;
+    bool pty;
+    bool loop;
+    unsigned long scans;  /* sim: stop after N (0: never) */
+    lms_sim_config_t sim;
+} sim_options_t;
+
+#define PARSED_HELP (-1)
+
+static int parse_options(const cli_command_t *self, int argc, char **argv, bool play,
+                         sim_options_t *o)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
+        if (cli_is_help(arg)) {
+            cli_print_command_usage(self);
+            return cli_finish_stdout() ? PARSED_HELP : CLI_EXIT_RUNTIME;
+        }
+        if (play && strcmp(arg, "--pty") == 0) {
+            o->pty = true;
+            continue;
+        }
+        if (play && strcmp(arg, "--loop") == 0) {
+            o->loop = true;
+            continue;
+        }
+        if (arg[0] != '-' && play) {
+            if (o->source != NULL) {
+                return cli_usage_error(self, "more than one FILE", arg, NULL);
+            }
+            o->source = arg;
+            continue;
+        }
+        if (strcmp(arg, "--rate") == 0) {
+            double x = 0.0;
+            if (value == NULL || cli_parse_double(value, &x) != 0 || x < 0.01 || x > 100.0) {
+                return cli_usage_error(self, "invalid --rate", value, "0.01 .. 100");
+            }
+            o->sim.speed_permille = (uint32_t)lround(x * 1000.0);
+        } else if (strcmp(arg, "--link") == 0 && value != NULL) {
+            o->link = value;
+        } else if (play && strcmp(arg, "--port") == 0 && value != NULL) {
+            o->port = value;
+        } else if (!play && strcmp(arg, "--baud") == 0) {
+            if (live_parse_baud(value, &o->sim.power_on_baud) != 0) {
+                return cli_usage_error(self, "invalid --baud", value, "9600, 19200, 38400 or 500000");
+            }
+        } else if (!play && strcmp(arg, "--source") == 0 && value != NULL) {
+            o->source = value;
+        } else if (!play && strcmp(arg, "--faults") == 0) {
+            if (value == NULL || !lms_sim_parse_faults(value, &o->sim.faults)) {
+                return cli_usage_error(self, "invalid --faults", value,
+                                       "e.g. drop=100,nak=5,silence=200:500,power=400,hangup=600");
+            }
+        } else if (!play && strcmp(arg, "--address") == 0) {
+            unsigned long a = 0u;
+            if (cli_parse_whole(value, 0u, 127u, &a) != 0) {
+                return cli_usage_error(self, "invalid --address", value, "0..127");
+            }
+            o->sim.address = (uint8_t)a;
+        } else if (!play && strcmp(arg, "--units") == 0) {
+            if (live_parse_unit(value, &o->sim.unit) != 0) {
+                return cli_usage_error(self, "invalid --units", value, "cm or mm");
+            }
+        } else if (!play && strcmp(arg, "--power-delay") == 0) {
+            unsigned long ms = 0u;
+            if (cli_parse_whole(value, 0u, 120000u, &ms) != 0) {
+                return cli_usage_error(self, "invalid --power-delay", value, "ms, 0..120000");
+            }
+            o->sim.power_on_delay_us = (uint32_t)(ms * 1000u);
+        } else if (!play && strcmp(arg, "--scans") == 0) {
+            if (cli_parse_whole(value, 1u, 1000000000u, &o->scans) != 0) {
+                return cli_usage_error(self, "invalid --scans", value, "1..1000000000");
+            }
+        } else if (value == NULL && arg[0] == '-') {
+            return cli_usage_error(self, "unknown option or missing value", arg, NULL);
+        } else {
+            return cli_usage_error(self, "unknown option", arg, NULL);
+        }
+        i++;
+    }
+    if (play && o->source == NULL) {
+        return cli_usage_error(self, "missing FILE", NULL, NULL);
+    }
+    if (play && o->pty == (o->port != NULL)) {
+        return cli_usage_error(self, "give exactly one of --pty and --port DEV", NULL, NULL);
+    }
+    return 0;
+}
+
+/* Writes what the scanner sends; a full pseudo-terminal (nobody reading)
+ * loses bytes, as a line without a listener does. */
+static void line_send(line_t *l, const uint8_t *bytes, size_t n)
+{
+    size_t off = 0u;
+    while (off < n) {
+        const ssize_t w = write(line_fd(l), bytes + off, n - off);
+        if (w > 0) {
+            off += (size_t)w;
+        } else if (w < 0 && errno == EINTR) {
+            continue;
+        } else {
+            l->dropped += (uint32_t)(n - off);
+            return;
+        }
+    }
+}
+
+static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
+{
+    static sim_options_t o;
+    static lms_sim_t sim;
+    static recorded_t rec;
+    static line_t line;
+    memset(&o, 0, sizeof o);
+    memset(&rec, 0, sizeof rec);
+    memset(&line, 0, sizeof line);
+    line.pty.master = -1;
+    line.port.fd = -1;
+    lms_sim_defaults(&o.sim);
+    const int rc = parse_options(self, argc, argv, play, &o);
+    if (rc == PARSED_HELP) {
+        return CLI_EXIT_OK;
+    }
+    if (rc != 0) {
+        return rc;
+    }
+    if (o.source != NULL) {
+        if (recorded_load(&rec, o.source) != 0) {
+            recorded_free(&rec);
+            return CLI_EXIT_RUNTIME;
+        }
+        rec.loop = !play || o.loop;
+        o.sim.scan_source = recorded_scan;
+        o.sim.scan_ctx = &rec;
+        /* The recording fixes the variant: only that one is accepted. */
+        if (!rec.partial) {
+            o.sim.fixed_angle_deg = (rec.values == 101u || rec.values == 201u || rec.values == 401u)
+                                        ? 100u : 180u;
+            o.sim.fixed_resolution_cdeg =
+                (uint16_t)(o.sim.fixed_angle_deg * 100u / (uint32_t)(rec.values - 1u));
+        }
+    } else {
+        o.sim.scan_source = synthetic_scan;
+    }
+    line.use_pty = !play || o.pty;
+    if (line.use_pty) {
+        const int e = lms_pty_open(&line.pty, o.link);
+        if (e != 0) {
+            cli_file_error("cannot create a pseudo-terminal", o.link != NULL ? o.link : "",
+                           strerror(e));
+            recorded_free(&rec);
+            return CLI_EXIT_RUNTIME;
+        }
+    } else {
+        const lms_serial_status_t st = lms_serial_open(&line.port, o.port, o.sim.power_on_baud);
+        if (st != LMS_SERIAL_OK) {
+            cli_file_error("cannot open ", o.port, lms_serial_status_name(st));
+            recorded_free(&rec);
+            return CLI_EXIT_RUNTIME;
+        }
+    }
+    (void)printf("%s\n", line.use_pty ? lms_pty_path(&line.pty) : o.port);
+    (void)fflush(stdout);
+
+    live_catch_stop_signals();
+
+    const uint64_t t0 = live_monotonic_us();
+    lms_sim_init(&sim, &o.sim, 0u);
+    int status = CLI_EXIT_OK;
+    static uint8_t buf[4096];
+    lms_baud_t port_baud = o.sim.power_on_baud;
+    while (!live_stop_requested()) {
+        const uint64_t now = live_monotonic_us() - t0;
+        /* The host's rate: what the driver set on the pseudo-terminal (a
+         * rate none of the four: anything but ours, so all is garbled); on
+         * a real port, our own (the port follows us). */
+        lms_baud_t host = lms_sim_baud(&sim);
+        if (line.use_pty && !lms_pty_host_baud(&line.pty, &host)) {
+            host = lms_sim_baud(&sim) == LMS_BAUD_9600 ? LMS_BAUD_19200 : LMS_BAUD_9600;
+        }
+        const size_t n = lms_sim_transmit(&sim, host, now, buf, sizeof buf);
+        if (n > 0u) {
+            line_send(&line, buf, n);
+        }
+        if (!line.use_pty && lms_sim_baud(&sim) != port_baud) {
+            port_baud = lms_sim_baud(&sim);
+            (void)lms_serial_set_baud(&line.port, port_baud);
+        }
+        if (lms_sim_take_hangup(&sim) && line.use_pty) {
+            const int e = lms_pty_reopen(&line.pty);
+            if (e != 0) {
+                cli_error("cannot reopen the pseudo-terminal after the hang-up");
+                status = CLI_EXIT_RUNTIME;
+                break;
+            }
+            (void)fprintf(stderr, "lmsego: %s: hung up; now at %s\n", self->name,
+                          lms_pty_path(&line.pty));
+        }
+        const lms_sim_stats_t *ss = lms_sim_stats(&sim);
+        if ((o.scans > 0u && ss->scans_sent >= o.scans) ||
+            (rec.done && lms_sim_next_event_us(&sim, now) == UINT64_MAX)) {
+            break; /* sim --scans reached, or play: the recording has left */
+        }
+        const uint64_t next = lms_sim_next_event_us(&sim, now);
+        const uint64_t wait_us = next == UINT64_MAX ? 100000u : (next > now ? next - now : 0u);
+        int timeout_ms = (int)((wait_us > 100000u ? 100000u : wait_us) / 1000u);
+        struct pollfd p = {line_fd(&line), POLLIN, 0};
+        const int pr = poll(&p, 1u, timeout_ms);
+        if (pr < 0 && errno != EINTR) {
+            cli_error(strerror(errno));
+            status = CLI_EXIT_RUNTIME;
+            break;
+        }
+        if (pr > 0 && (p.revents & POLLIN) != 0) {
+            const ssize_t r = read(line_fd(&line), buf, sizeof buf);
+            if (r > 0) {
+                lms_sim_receive(&sim, buf, (size_t)r, host, live_monotonic_us() - t0);
+            }
+        } else if (pr > 0 && (p.revents & (POLLHUP | POLLERR)) != 0 && !line.use_pty) {
+            cli_file_error("hang-up on ", o.port, "the line was closed");
+            status = CLI_EXIT_RUNTIME;
+            break;
+        }
+    }
+    const lms_sim_stats_t *ss = lms_sim_stats(&sim);
+    (void)fprintf(stderr,
+                  "lmsego: %s: scans_sent=%lu scans_skipped=%lu host_telegrams=%lu host_bad=%lu "
+                  "garbled_bytes=%lu baud_changes=%lu config_writes=%lu power_cycles=%lu "
+                  "dropped=%lu flipped=%lu inserted=%lu unread=%lu\n",
+                  self->name, (unsigned long)ss->scans_sent, (unsigned long)ss->scans_skipped,
+                  (unsigned long)ss->host_telegrams, (unsigned long)ss->host_bad,
+                  (unsigned long)ss->garbled_bytes, (unsigned long)ss->baud_changes,
+                  (unsigned long)ss->config_writes, (unsigned long)ss->power_cycles,
+                  (unsigned long)ss->bytes_dropped, (unsigned long)ss->bytes_flipped,
+                  (unsigned long)ss->bytes_inserted, (unsigned long)line.dropped);
+    if (line.use_pty) {
+        lms_pty_close(&line.pty);
+    } else {
+        lms_serial_close(&line.port);
+    }
+    recorded_free(&rec);
+    return status;
+}
+
+int cmd_sim(const cli_command_t *self, int argc, char **argv)
+{
+    return sim_main(self, argc, argv, false);
+}
+
+int cmd_play(const cli_command_t *self, int argc, char **argv)
+{
+    return sim_main(self, argc, argv, true);
+}
