@@ -339,13 +339,14 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     ego_loop_init(&loop, &config);
     while (ego_loop_step(&loop, &hal) != EGO_LOOP_END) {
     }
-    const int read_error = io.file.error;
     stream_file_close(&io.file);
     free(io.prior);
     free(io.has_prior);
     const int closed = close_output(io.pairs, pairs_path) | close_output(io.tum, tum_path);
     if (io.failed) {
-        cli_file_error("error reading ", shown, strerror(read_error));
+        char why[128];
+        cli_file_error(io.file.bad != NULL ? "bad recording " : "error reading ", shown,
+                       stream_file_problem(&io.file, why, sizeof why));
         return CLI_EXIT_RUNTIME;
     }
     const ego_loop_stats_t *st = ego_loop_stats(&loop);

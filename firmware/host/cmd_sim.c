@@ -494,7 +494,11 @@ static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
         }
         const uint64_t next = lms_sim_next_event_us(&sim, now);
         const uint64_t wait_us = next == UINT64_MAX ? 100000u : (next > now ? next - now : 0u);
-        int timeout_ms = (int)((wait_us > 100000u ? 100000u : wait_us) / 1000u);
+        /* At least 1 ms: bytes then leave in chunks of up to a millisecond
+         * of line time, as a USB serial adapter delivers them, instead of
+         * a busy loop waking for every 20-us byte at 500 kbaud. */
+        const uint64_t capped = wait_us > 100000u ? 100000u : wait_us;
+        const int timeout_ms = capped < 1000u ? 1 : (int)(capped / 1000u);
         struct pollfd p = {line_fd(&line), POLLIN, 0};
         const int pr = poll(&p, 1u, timeout_ms);
         if (pr < 0 && errno != EINTR) {

@@ -197,6 +197,14 @@ static void rig_run(uint64_t until, bool (*stop_when)(void))
     }
 }
 
+/* An INFO line with a measured recovery time (docs/session.md quotes them). */
+static void report_us(const char *what, uint64_t us)
+{
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "%s: %llu ms", what, (unsigned long long)(us / 1000u));
+    TEST_MESSAGE(msg);
+}
+
 static bool is_streaming(void)
 {
     return lms_session_state(&R.s) == LMS_SESSION_STREAMING && R.scans > 0u;
@@ -275,6 +283,7 @@ static void test_bring_up_from_every_rate_to_every_rate(void)
             TEST_ASSERT_EQUAL_INT_MESSAGE(RATES[to], lms_sim_baud(&R.sim), msg);
             TEST_ASSERT_EQUAL_INT_MESSAGE(RATES[to], lms_session_info(&R.s)->baud, msg);
             TEST_ASSERT_TRUE_MESSAGE(R.first_streaming_us < 1000u + 3u * SEC, msg);
+            report_us(msg, R.first_streaming_us - 1000u);
             rig_run(R.now + 2u * SEC, NULL);
             TEST_ASSERT_EQUAL_UINT_MESSAGE(0u, R.lost, msg);
             TEST_ASSERT_EQUAL_UINT_MESSAGE(0u, R.repeated, msg);
@@ -437,6 +446,7 @@ static void test_silence_recovered(void)
      * silence ends plus a bring-up. */
     TEST_ASSERT_TRUE(R.last_streaming_us - R.last_restart_us < 500000u + 1000000u);
     TEST_ASSERT_TRUE(is_streaming());
+    report_us("silence 500 ms: restart to streaming", R.last_streaming_us - R.last_restart_us);
 }
 
 /* A power cycle: the scanner comes back at 9600 (garbage at 500 kbaud), or
@@ -464,6 +474,9 @@ static void test_power_cycle_recovered(void)
         }
         /* Back within the power-on delay plus 6 s (backoff and discovery). */
         TEST_ASSERT_TRUE(R.last_streaming_us - R.last_restart_us < 2u * SEC + 6u * SEC);
+        report_us(permanent ? "power cycle (50 ms, permanent 500k): restart to streaming"
+                            : "power cycle (2 s, back at 9600): restart to streaming",
+                  R.last_streaming_us - R.last_restart_us);
     }
 }
 
@@ -526,6 +539,7 @@ static void test_hangup_recovered(void)
     TEST_ASSERT_EQUAL_UINT(1u, lms_session_stats(&R.s)->restarts_link);
     TEST_ASSERT_TRUE(R.last_streaming_us - R.last_restart_us < SEC);
     TEST_ASSERT_TRUE(is_streaming());
+    report_us("hang-up: restart to streaming", R.last_streaming_us - R.last_restart_us);
 }
 
 /* Stop: stream off and the scanner back at 9600; nothing more comes. */
@@ -567,6 +581,7 @@ static void test_absent_scanner_found_when_it_comes(void)
     rig_run(R.now + 10u * SEC, is_streaming);
     TEST_ASSERT_TRUE(is_streaming());
     TEST_ASSERT_TRUE(R.first_streaming_us < 1000u + 20u * SEC + 6u * SEC);
+    report_us("scanner up after 20 s: found at", R.first_streaming_us - 1000u);
 }
 
 /* Random bytes fed in every state: no crash, no event out of nothing, and

@@ -199,6 +199,45 @@ lmsego_cli_test(replay_bad_scan_offset ARGS replay --scan-offset -1
 lmsego_cli_test(replay_scan_step_missing ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms --scan-step
     OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--scan-step)
 
+# Bad command lines and unusable ports of the live commands: a clear
+# one-line message, exit 2 (usage) or 1 (the port), nothing on stdout.
+lmsego_cli_test(run_missing_port ARGS run
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON "-DSTDERR_REGEX=missing --port")
+lmsego_cli_test(run_bad_baud ARGS run --port /dev/null --baud 115200
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=invalid --baud '115200'")
+lmsego_cli_test(run_bad_variant ARGS run --port /dev/null --variant 180,0.25
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=invalid --variant '180,0.25'")
+lmsego_cli_test(run_bad_units ARGS run --port /dev/null --units km
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=invalid --units 'km'")
+lmsego_cli_test(run_bad_scans ARGS run --port /dev/null --scans 0
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=invalid --scans '0'")
+lmsego_cli_test(run_no_such_port ARGS run --port ${CMAKE_BINARY_DIR}/no-such-tty
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=cannot open '.*no-such-tty': no such device")
+lmsego_cli_test(run_not_a_tty ARGS run --port ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=cannot open '.*vectors.lms': not a serial device")
+lmsego_cli_test(record_missing_output ARGS record --port /dev/null
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON "-DSTDERR_REGEX=missing -o FILE")
+lmsego_cli_test(sim_bad_faults ARGS sim --faults drop=x
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=invalid --faults 'drop=x'")
+lmsego_cli_test(sim_bad_rate ARGS sim --rate 0
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON "-DSTDERR_REGEX=invalid --rate '0'")
+lmsego_cli_test(sim_missing_source ARGS sim --source ${LMSEGO_CLI_MISSING}
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON "-DSTDERR_REGEX=cannot open")
+lmsego_cli_test(play_needs_a_line ARGS play ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=exactly one of --pty and --port")
+lmsego_cli_test(play_missing_file ARGS play --pty
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON "-DSTDERR_REGEX=missing FILE")
+lmsego_cli_test(play_no_scans ARGS play ${LMSEGO_CLI_DATA}/vectors.hex --pty
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON "-DSTDERR_REGEX=no scans in")
+
 # The live commands end to end over real pseudo-terminals (label "live"):
 # lmsego sim / play as the scanner, run / record as the host. One case of
 # tests/live.sh per test; each works in its own directory.
