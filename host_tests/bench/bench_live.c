@@ -146,7 +146,14 @@ int main(int argc, char **argv)
         (void)fprintf(stderr, "usage: bench_live LMSEGO STREAM [SECONDS]\n");
         return 2;
     }
-    const double seconds = argc == 4 ? atof(argv[3]) : 20.0;
+    double seconds = 20.0;
+    if (argc == 4) {
+        char *end = NULL;
+        seconds = strtod(argv[3], &end);
+        if (end == argv[3] || *end != '\0') {
+            seconds = -1.0;
+        }
+    }
     if (!(seconds > 0.0 && seconds < 3600.0) || load_stream(argv[2]) != 0) {
         return 2;
     }
@@ -246,11 +253,11 @@ int main(int argc, char **argv)
             stopping = true;
         }
         const uint64_t next = lms_sim_next_event_us(&sim, t);
-        const uint64_t wait = next == UINT64_MAX ? 50000u : (next > t ? next - t : 0u);
+        const uint64_t wait_us = next == UINT64_MAX ? 50000u : (next > t ? next - t : 0u);
         struct pollfd p[2] = {{pty.master, POLLIN, 0}, {out_pipe[0], POLLIN, 0}};
         /* At least 1 ms, as lmsego sim does: the line's bytes come in
          * chunks of up to a millisecond (like a USB serial adapter). */
-        const uint64_t capped = wait > 50000u ? 50000u : wait;
+        const uint64_t capped = wait_us > 50000u ? 50000u : wait_us;
         const int pr = poll(p, 2u, capped < 1000u ? 1 : (int)(capped / 1000u));
         if (pr < 0 && errno != EINTR) {
             break;
