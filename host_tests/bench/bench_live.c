@@ -130,6 +130,18 @@ static bool source(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t resolutio
     return true;
 }
 
+/* Until the simulator's next event, 1 .. 50 ms: at least 1 ms, as lmsego
+ * sim does, so the line's bytes come in chunks of up to a millisecond (like
+ * a USB serial adapter) instead of a wake-up per 20-us byte. */
+static int poll_timeout_ms(uint64_t now, uint64_t next)
+{
+    if (next == UINT64_MAX || next >= now + 50000u) {
+        return 50;
+    }
+    const uint64_t ms = next > now ? (next - now) / 1000u : 0u;
+    return ms < 1u ? 1 : (int)ms;
+}
+
 static uint64_t last_byte_us[MAX_SCANS];
 static uint64_t line_us[MAX_SCANS];
 
@@ -253,12 +265,8 @@ int main(int argc, char **argv)
             stopping = true;
         }
         const uint64_t next = lms_sim_next_event_us(&sim, t);
-        const uint64_t wait_us = next == UINT64_MAX ? 50000u : (next > t ? next - t : 0u);
         struct pollfd p[2] = {{pty.master, POLLIN, 0}, {out_pipe[0], POLLIN, 0}};
-        /* At least 1 ms, as lmsego sim does: the line's bytes come in
-         * chunks of up to a millisecond (like a USB serial adapter). */
-        const uint64_t capped = wait_us > 50000u ? 50000u : wait_us;
-        const int pr = poll(p, 2u, capped < 1000u ? 1 : (int)(capped / 1000u));
+        const int pr = poll(p, 2u, poll_timeout_ms(t, next));
         if (pr < 0 && errno != EINTR) {
             break;
         }
