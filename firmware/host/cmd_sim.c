@@ -396,6 +396,18 @@ static void line_send(line_t *l, const uint8_t *bytes, size_t n)
     }
 }
 
+/* Until the model's next event, 1 .. 100 ms. At least 1 ms: bytes then
+ * leave in chunks of up to a millisecond of line time, as a USB serial
+ * adapter delivers them, instead of a wake-up per 20-us byte at 500 kbaud. */
+static int poll_timeout_ms(uint64_t now, uint64_t next)
+{
+    if (next == UINT64_MAX || next >= now + 100000u) {
+        return 100;
+    }
+    const uint64_t ms = next > now ? (next - now) / 1000u : 0u;
+    return ms < 1u ? 1 : (int)ms;
+}
+
 static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
 {
     static sim_options_t o;
@@ -493,14 +505,8 @@ static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
             break; /* sim --scans reached, or play: the recording has left */
         }
         const uint64_t next = lms_sim_next_event_us(&sim, now);
-        const uint64_t wait_us = next == UINT64_MAX ? 100000u : (next > now ? next - now : 0u);
-        /* At least 1 ms: bytes then leave in chunks of up to a millisecond
-         * of line time, as a USB serial adapter delivers them, instead of
-         * a busy loop waking for every 20-us byte at 500 kbaud. */
-        const uint64_t capped = wait_us > 100000u ? 100000u : wait_us;
-        const int timeout_ms = capped < 1000u ? 1 : (int)(capped / 1000u);
         struct pollfd p = {line_fd(&line), POLLIN, 0};
-        const int pr = poll(&p, 1u, timeout_ms);
+        const int pr = poll(&p, 1u, poll_timeout_ms(now, next));
         if (pr < 0 && errno != EINTR) {
             cli_error(strerror(errno));
             status = CLI_EXIT_RUNTIME;
