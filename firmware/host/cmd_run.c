@@ -266,6 +266,58 @@ static uint32_t scan_time(scan_clock_t *c, const lms_session_t *s, uint32_t now_
     return c->time_us;
 }
 
+/* Scans waiting for the estimator. The line is read, and the session fed,
+ * between any two scans: a hard scan (the estimator needs up to hundreds
+ * of ms for some) then only delays the scans behind it, while the bytes
+ * still leave the kernel's buffer (64 KB, about 1.3 s at 500 kbaud) in
+ * time. A restart is queued as a mark, so it reaches the estimator in
+ * order. 4096 entries hold 55 s of 75 Hz scans; a scan that finds the
+ * queue full is dropped and counted. */
+#define SCAN_QUEUE 4096u
+
+typedef struct {
+    uint8_t bytes[LMS_TELEGRAM_MAX];
+    uint16_t len;          /* 0: a restart mark */
+    uint32_t time_us;      /* the scan's counted time */
+} queued_scan_t;
+
+typedef struct {
+    queued_scan_t item[SCAN_QUEUE];
+    uint32_t head;
+    uint32_t count;
+    uint32_t dropped;
+    uint32_t deepest;      /* most entries waiting at once */
+} scan_queue_t;
+
+static bool queue_push(scan_queue_t *q, const uint8_t *t, size_t len, uint32_t time_us)
+{
+    if (q->count == SCAN_QUEUE || len > LMS_TELEGRAM_MAX) {
+        q->dropped++;
+        return false;
+    }
+    queued_scan_t *e = &q->item[(q->head + q->count) % SCAN_QUEUE];
+    if (len > 0u) {
+        memcpy(e->bytes, t, len);
+    }
+    e->len = (uint16_t)len;
+    e->time_us = time_us;
+    q->count++;
+    q->deepest = q->count > q->deepest ? q->count : q->deepest;
+    return true;
+}
+
+/* The oldest entry, or NULL; valid until the next push. */
+static const queued_scan_t *queue_pop(scan_queue_t *q)
+{
+    if (q->count == 0u) {
+        return NULL;
+    }
+    const queued_scan_t *e = &q->item[q->head];
+    q->head = (q->head + 1u) % SCAN_QUEUE;
+    q->count--;
+    return e;
+}
+
 /* The whole live job; record selects the mode. */
 static int live(const cli_command_t *self, int argc, char **argv, bool record)
 {
@@ -274,7 +326,12 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     static lms_session_t session;
     static ego_loop_t loop;
     static scan_clock_t clock;
+    static scan_queue_t queue;
     memset(&clock, 0, sizeof clock);
+    queue.head = 0u;
+    queue.count = 0u;
+    queue.dropped = 0u;
+    queue.deepest = 0u;
     memset(&o, 0, sizeof o);
     memset(&io, 0, sizeof io);
     lms_session_defaults(&o.session);
@@ -319,7 +376,17 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     bool done = false;
     uint64_t next_reopen_us = 0u;
     static uint8_t buf[4096];
-    while (!done) {
+    while (!done || queue.count > 0u) {
+        if (done) {
+            /* Stopped: what is queued still gets its line. */
+            const queued_scan_t *e = queue_pop(&queue);
+            if (e->len == 0u) {
+                ego_loop_gap(&loop);
+            } else {
+                ego_loop_telegram(&loop, &hal, e->bytes, e->len, e->time_us);
+            }
+            continue;
+        }
         if ((live_stop_requested() || (o.scans > 0u && lms_session_stats(&session)->scans >= o.scans)) &&
             !stopping) {
             stopping = true;
@@ -348,6 +415,9 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
         const uint32_t wait = lms_session_wait_us(&session, hal_now_us(&io));
         int timeout_ms = (int)(wait / 1000u) + (wait % 1000u != 0u ? 1 : 0);
         timeout_ms = timeout_ms > POLL_MAX_MS ? POLL_MAX_MS : timeout_ms;
+        if (queue.count > 0u) {
+            timeout_ms = 0; /* scans are waiting: only take what is there */
+        }
         ps = lms_serial_read(&io.port, buf, sizeof buf, timeout_ms, &got);
         const uint64_t read_us = live_monotonic_us() - io.t0_us;
         const uint32_t now = (uint32_t)read_us;
@@ -384,7 +454,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
                     const uint8_t *t = lms_session_telegram(&session, &len);
                     const uint32_t t_us = scan_time(&clock, &session, now);
                     if (!record) {
-                        ego_loop_telegram(&loop, &hal, t, len, t_us);
+                        (void)queue_push(&queue, t, len, t_us);
                     }
                 } else if (ev == LMS_SESSION_EV_STREAMING) {
                     const lms_session_info_t *in = lms_session_info(&session);
@@ -400,7 +470,9 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
                 } else if (ev == LMS_SESSION_EV_RESTART) {
                     (void)fprintf(stderr, "lmsego: %s: link lost (%s); bringing the scanner up again\n",
                                   self->name, cause_text(lms_session_cause(&session)));
-                    ego_loop_gap(&loop);
+                    if (!record) {
+                        (void)queue_push(&queue, NULL, 0u, 0u);
+                    }
                     clock.restarted = true;
                 } else if (ev == LMS_SESSION_EV_STOPPED) {
                     done = true;
@@ -420,11 +492,22 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
             status = CLI_EXIT_RUNTIME;
             break;
         }
+        /* One queued scan per round, then the line again. */
+        const queued_scan_t *e = queue_pop(&queue);
+        if (e != NULL && e->len == 0u) {
+            ego_loop_gap(&loop);
+        } else if (e != NULL) {
+            ego_loop_telegram(&loop, &hal, e->bytes, e->len, e->time_us);
+        }
         if (io.out_failed) {
             cli_error("write error on standard output");
             status = CLI_EXIT_RUNTIME;
             break;
         }
+    }
+    if (!record) {
+        (void)fprintf(stderr, "lmsego: %s: queue deepest=%lu dropped=%lu\n", self->name,
+                      (unsigned long)queue.deepest, (unsigned long)queue.dropped);
     }
     report_session(&session, self->name);
     lms_serial_close(&io.port);

@@ -142,6 +142,28 @@ static int poll_timeout_ms(uint64_t now, uint64_t next)
     return ms < 1u ? 1 : (int)ms;
 }
 
+/* Writes all n bytes, waiting (up to 2 s) while the pseudo-terminal is
+ * full: a slow reader must show as latency here, not as lost scans. */
+static ssize_t write_all(int fd, const uint8_t *b, size_t n)
+{
+    size_t off = 0u;
+    while (off < n) {
+        const ssize_t w = write(fd, b + off, n - off);
+        if (w > 0) {
+            off += (size_t)w;
+            continue;
+        }
+        if (w < 0 && errno != EAGAIN && errno != EINTR) {
+            break;
+        }
+        struct pollfd p = {fd, POLLOUT, 0};
+        if (poll(&p, 1u, 2000) <= 0) {
+            break;
+        }
+    }
+    return (ssize_t)off;
+}
+
 static uint64_t last_byte_us[MAX_SCANS];
 static uint64_t line_us[MAX_SCANS];
 
@@ -238,7 +260,7 @@ int main(int argc, char **argv)
         }
         const size_t n = lms_sim_transmit(&sim, host, t, buf, sizeof buf);
         if (n > 0u) {
-            const ssize_t w = write(pty.master, buf, n);
+            const ssize_t w = write_all(pty.master, buf, n);
             const uint64_t tw = now_us();
             size_t off = 0u;
             for (; w > 0;) {
