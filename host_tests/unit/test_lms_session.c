@@ -584,6 +584,30 @@ static void test_absent_scanner_found_when_it_comes(void)
     report_us("scanner up after 20 s: found at", R.first_streaming_us - 1000u);
 }
 
+/* A scanner at address 5: found by a session for address 5 and by one for
+ * any address (0); a session for address 6 hears nobody (the scanner
+ * ignores telegrams for another address, and its replies are not ours). */
+static void test_addresses(void)
+{
+    static const uint8_t wanted[3] = {5u, 0u, 6u};
+    for (size_t i = 0u; i < 3u; i++) {
+        lms_sim_config_t sc;
+        lms_session_config_t cc;
+        defaults(&sc, &cc);
+        sc.address = 5u;
+        cc.address = wanted[i];
+        rig_init(&sc, &cc);
+        rig_run(R.now + 5u * SEC, is_streaming);
+        if (wanted[i] == 6u) {
+            TEST_ASSERT_FALSE(is_streaming());
+            TEST_ASSERT_TRUE(lms_session_stats(&R.s)->discovery_rounds > 0u);
+        } else {
+            TEST_ASSERT_TRUE(is_streaming());
+            TEST_ASSERT_EQUAL_HEX8(0x85u, lms_session_info(&R.s)->reply_address);
+        }
+    }
+}
+
 /* Random bytes fed in every state: no crash, no event out of nothing, and
  * the bring-up still completes. */
 static void test_garbage_in_every_state(void)
@@ -628,6 +652,7 @@ int main(void)
     RUN_TEST(test_hangup_recovered);
     RUN_TEST(test_stop_leaves_scanner_idle_at_9600);
     RUN_TEST(test_absent_scanner_found_when_it_comes);
+    RUN_TEST(test_addresses);
     RUN_TEST(test_garbage_in_every_state);
     return UNITY_END();
 }
