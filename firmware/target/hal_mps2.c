@@ -1,0 +1,89 @@
+/* hal_mps2.c - UART0, SysTick and semihosting on the MPS2 boards (see
+ * target.h). */
+#include "target.h"
+
+/* CMSDK UART0. */
+#define UART0_BASE 0x40004000u
+#define UART_DATA (*(volatile uint32_t *)(UART0_BASE + 0x00u))
+#define UART_STATE (*(volatile uint32_t *)(UART0_BASE + 0x04u))
+#define UART_CTRL (*(volatile uint32_t *)(UART0_BASE + 0x08u))
+#define UART_BAUDDIV (*(volatile uint32_t *)(UART0_BASE + 0x10u))
+#define UART_STATE_TX_FULL 0x1u
+#define UART_CTRL_TX_EN 0x1u
+
+/* SysTick. */
+#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
+#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
+#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
+#define SYST_ENABLE_TICKINT_CORE 0x7u
+#define SYST_MAX 0xFFFFFFu
+#define CORE_HZ 25000000u
+
+
+#define SYS_EXIT_EXTENDED 0x20u
+#define ADP_STOPPED_APPLICATION_EXIT 0x20026u
+
+void SysTick_Handler(void);
+
+static volatile uint32_t systick_wraps;
+
+_Noreturn void target_exit(int code)
+{
+    volatile uint32_t block[2] = {ADP_STOPPED_APPLICATION_EXIT, (uint32_t)code};
+    register uint32_t r0 __asm__("r0") = SYS_EXIT_EXTENDED;
+    register volatile uint32_t *r1 __asm__("r1") = block;
+    __asm__ volatile("bkpt 0xab" : : "r"(r0), "r"(r1) : "memory");
+    for (;;) {
+        /* Only without semihosting: nothing else can be done. */
+    }
+}
+
+void target_uart_init(void)
+{
+    UART_BAUDDIV = CORE_HZ / 115200u;
+    UART_CTRL = UART_CTRL_TX_EN;
+}
+
+void target_uart_write(const uint8_t *bytes, size_t len)
+{
+    for (size_t i = 0u; i < len; i++) {
+        while ((UART_STATE & UART_STATE_TX_FULL) != 0u) {
+        }
+        UART_DATA = bytes[i];
+    }
+}
+
+void target_uart_puts(const char *text)
+{
+    size_t n = 0u;
+    while (text[n] != '\0') {
+        n++;
+    }
+    target_uart_write((const uint8_t *)text, n);
+}
+
+void SysTick_Handler(void)
+{
+    systick_wraps++;
+}
+
+void target_clock_init(void)
+{
+    SYST_RVR = SYST_MAX;
+    SYST_CVR = 0u;
+    SYST_CSR = SYST_ENABLE_TICKINT_CORE;
+}
+
+uint64_t target_instructions(void)
+{
+    /* A wrap between the two reads shows as a changed wrap count: read
+     * again. */
+    uint32_t wraps;
+    uint32_t value;
+    do {
+        wraps = systick_wraps;
+        value = SYST_CVR;
+    } while (wraps != systick_wraps);
+    const uint64_t ticks = (uint64_t)wraps * (SYST_MAX + 1u) + (SYST_MAX - value);
+    return ticks * TARGET_INSNS_PER_TICK;
+}

@@ -1,0 +1,123 @@
+/* main_replay.c - the firmware image of the loop: the same portable loop
+ * as `lmsego replay` (firmware/ego_loop.h) over a recorded telegram stream
+ * compiled into flash (lmsego_stream, generated from a .lms file by
+ * cmake/bin2c.cmake), writing the same CSV lines to UART0.
+ *
+ * It also measures itself: the instructions between consecutive output
+ * lines (one scan: framing, decoding, the estimator and the line), counted
+ * with SysTick under QEMU's -icount (target.h), and the stack high-water
+ * mark. After the stream it writes, as lines starting with '#':
+ *   # insns_per_scan median=N max=M scans=S
+ *   # stack_bytes used=U of=T
+ * and exits 0 (semihosting). The lines before them are byte-identical to
+ * `lmsego replay` of the same stream (ctest target_replay_*).
+ */
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "ego_loop.h"
+#include "target.h"
+
+extern const uint8_t lmsego_stream[];
+extern const uint32_t lmsego_stream_size;
+
+/* Per-scan counts kept for the median, in SysTick ticks of 40
+ * instructions (a uint32_t holds 171 G instructions; the repository's
+ * streams have at most a few hundred scans; more are still counted in the
+ * maximum). */
+#define MAX_MEASURED 512u
+
+static ego_loop_config_t config;
+static ego_loop_t loop;
+static uint32_t stream_pos;
+static uint32_t insns[MAX_MEASURED];
+static uint32_t measured;
+static uint32_t insns_max;
+static uint64_t last_mark;
+
+static int32_t hal_read(void *ctx, uint8_t *buf, size_t cap)
+{
+    (void)ctx;
+    if (stream_pos >= lmsego_stream_size) {
+        return -1;
+    }
+    uint32_t n = lmsego_stream_size - stream_pos;
+    n = n > cap ? (uint32_t)cap : n;
+    for (uint32_t i = 0u; i < n; i++) {
+        buf[i] = lmsego_stream[stream_pos + i];
+    }
+    stream_pos += n;
+    return (int32_t)n;
+}
+
+static void hal_write(void *ctx, const uint8_t *buf, size_t len)
+{
+    (void)ctx;
+    target_uart_write(buf, len);
+}
+
+static uint32_t hal_now_us(void *ctx)
+{
+    (void)ctx;
+    return 0u; /* replay: scan times from the index and the period */
+}
+
+/* Called after every scan after the first: the instructions since the
+ * previous call are this scan's. */
+static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
+{
+    (void)ctx;
+    (void)scan;
+    (void)time_us;
+    (void)out;
+    const uint64_t now = target_instructions();
+    const uint64_t d = (now - last_mark) / TARGET_INSNS_PER_TICK;
+    const uint32_t n = d > UINT32_MAX ? UINT32_MAX : (uint32_t)d;
+    last_mark = now;
+    if (measured < MAX_MEASURED) {
+        insns[measured++] = n;
+    }
+    insns_max = n > insns_max ? n : insns_max;
+}
+
+/* Insertion sort: at most MAX_MEASURED entries, once. */
+static uint32_t median(uint32_t *v, uint32_t n)
+{
+    for (uint32_t i = 1u; i < n; i++) {
+        const uint32_t x = v[i];
+        uint32_t j = i;
+        for (; j > 0u && v[j - 1u] > x; j--) {
+            v[j] = v[j - 1u];
+        }
+        v[j] = x;
+    }
+    return n == 0u ? 0u : v[n / 2u];
+}
+
+static void put_field(const char *name, uint64_t value)
+{
+    char num[32];
+    (void)ego_format_fixed(num, (int64_t)value, 0u);
+    target_uart_puts(name);
+    target_uart_puts(num);
+}
+
+int main(void)
+{
+    target_uart_init();
+    target_clock_init();
+    ego_loop_defaults(&config);
+    config.observer = observe;
+    ego_loop_init(&loop, &config);
+    const ego_hal_t hal = {hal_read, hal_write, hal_now_us, NULL};
+    last_mark = target_instructions();
+    while (ego_loop_step(&loop, &hal) != EGO_LOOP_END) {
+    }
+    put_field("# insns_per_scan median=", (uint64_t)median(insns, measured) * TARGET_INSNS_PER_TICK);
+    put_field(" max=", (uint64_t)insns_max * TARGET_INSNS_PER_TICK);
+    put_field(" scans=", ego_loop_stats(&loop)->scans);
+    put_field("\n# stack_bytes used=", target_stack_used());
+    put_field(" of=", target_stack_size());
+    target_uart_puts("\n");
+    target_exit(TARGET_EXIT_OK);
+}

@@ -1,0 +1,51 @@
+/* target.h - the board layer of the Cortex-M images (MPS2 boards under
+ * QEMU: AN385 Cortex-M3, AN386 Cortex-M4F): startup (startup.c), the
+ * CMSDK UART0 and the SysTick instruction counter (hal_mps2.c), and the
+ * semihosting exit that ends a run with an exit code QEMU passes on.
+ *
+ * No vendor code: the register addresses are the board's (see
+ * ../shared/guides/cortex-m-target.md and docs/firmware.md).
+ */
+#ifndef LMSEGO_TARGET_H
+#define LMSEGO_TARGET_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Exit codes of a run (QEMU's own exit status). */
+#define TARGET_EXIT_OK 0
+#define TARGET_EXIT_FAILED 1        /* the image's own check failed */
+#define TARGET_EXIT_HARDFAULT 121
+#define TARGET_EXIT_MEMMANAGE 122
+#define TARGET_EXIT_BUSFAULT 123
+#define TARGET_EXIT_USAGEFAULT 124
+#define TARGET_EXIT_NMI 125
+#define TARGET_EXIT_UNEXPECTED 126  /* any other exception */
+#define TARGET_EXIT_RETURNED 127    /* main returned without exiting */
+
+/* Ends the run: semihosting SYS_EXIT_EXTENDED, QEMU exits with code. */
+_Noreturn void target_exit(int code);
+
+/* UART0: transmitter on (115200 8N1 on a real board; QEMU ignores the
+ * divider). */
+void target_uart_init(void);
+/* Writes len bytes, waiting while the transmit buffer is full. */
+void target_uart_write(const uint8_t *bytes, size_t len);
+/* A NUL-terminated text. */
+void target_uart_puts(const char *text);
+
+/* SysTick as a free-running counter of the core clock (25 MHz on MPS2),
+ * with an interrupt counting its 2^24 wraps. Under QEMU with
+ * -icount shift=0 (one instruction per nanosecond) one tick is exactly 40
+ * instructions, so target_instructions() counts instructions, the same
+ * run after run (to 40). */
+#define TARGET_INSNS_PER_TICK 40u /* 10^9 instructions/s (icount) / 25 MHz */
+void target_clock_init(void);
+uint64_t target_instructions(void);
+
+/* Stack high-water mark: the bytes of the stack ever used since reset
+ * (startup.c paints the stack before main). */
+uint32_t target_stack_used(void);
+uint32_t target_stack_size(void);
+
+#endif /* LMSEGO_TARGET_H */
