@@ -16,6 +16,11 @@ void SysTick_Handler(void);
 
 #define STACK_PAINT 0xA5A5A5A5u
 
+static volatile uint32_t *word_at(uintptr_t address)
+{
+    return (volatile uint32_t *)address;
+}
+
 static void fault_exit(int code)
 {
     target_exit(code);
@@ -77,18 +82,20 @@ __attribute__((section(".isr_vector"), used)) static const vector_t vectors[32] 
 
 void Reset_Handler(void)
 {
-    const uint32_t *src = &_sidata;
-    for (uint32_t *dst = &_sdata; dst < &_edata;) {
-        *dst++ = *src++;
+    /* The linker's symbols are separate objects to C: walk them as
+     * addresses (comparing pointers to different objects is undefined). */
+    uintptr_t src = (uintptr_t)&_sidata;
+    for (uintptr_t a = (uintptr_t)&_sdata; a < (uintptr_t)&_edata; a += 4u, src += 4u) {
+        *word_at(a) = *word_at(src);
     }
-    for (uint32_t *dst = &_sbss; dst < &_ebss;) {
-        *dst++ = 0u;
+    for (uintptr_t a = (uintptr_t)&_sbss; a < (uintptr_t)&_ebss; a += 4u) {
+        *word_at(a) = 0u;
     }
     /* Paint the stack below what this function uses (a 256-byte margin). */
     uintptr_t sp;
     __asm__ volatile("mov %0, sp" : "=r"(sp));
-    for (uint32_t *p = &_sstack; (uintptr_t)p + 256u < sp; p++) {
-        *p = STACK_PAINT;
+    for (uintptr_t a = (uintptr_t)&_sstack; a + 256u < sp; a += 4u) {
+        *word_at(a) = STACK_PAINT;
     }
 #if defined(__ARM_FP)
     /* CPACR: full access to CP10 and CP11, in case the compiler uses the
@@ -107,9 +114,9 @@ uint32_t target_stack_size(void)
 
 uint32_t target_stack_used(void)
 {
-    const uint32_t *p = &_sstack;
-    while (p < &_estack && *p == STACK_PAINT) {
-        p++;
+    uintptr_t a = (uintptr_t)&_sstack;
+    while (a < (uintptr_t)&_estack && *word_at(a) == STACK_PAINT) {
+        a += 4u;
     }
-    return (uint32_t)((uintptr_t)&_estack - (uintptr_t)p);
+    return (uint32_t)((uintptr_t)&_estack - a);
 }
