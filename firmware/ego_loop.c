@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "ego_frame.h"
+
 #define MICRO 1000000
 
 void ego_loop_defaults(ego_loop_config_t *config)
@@ -78,12 +80,13 @@ static uint32_t mode_period_us(uint16_t count)
 
 typedef struct {
     char *buf;
+    size_t cap; /* > 0 */
     size_t len;
 } line_t;
 
 static void put_text(line_t *l, const char *s)
 {
-    while (*s != '\0' && l->len + 1u < EGO_LOOP_LINE_MAX) {
+    while (*s != '\0' && l->len + 1u < l->cap) {
         l->buf[l->len++] = *s++;
     }
     l->buf[l->len] = '\0';
@@ -97,9 +100,31 @@ static void put_number(line_t *l, int64_t value, unsigned decimals, bool comma)
     put_text(l, comma ? "," : "\n");
 }
 
-static void write_line(const ego_hal_t *hal, const line_t *l)
+size_t ego_format_line(char *out, size_t cap, uint32_t scan, uint32_t time_us,
+                       const ego_output_t *o)
 {
-    hal->write(hal->ctx, (const uint8_t *)l->buf, l->len);
+    if (out == NULL || cap == 0u || o == NULL) {
+        return 0u;
+    }
+    out[0] = '\0';
+    line_t l = {out, cap, 0u};
+    put_number(&l, scan, 0u, true);
+    put_number(&l, time_us, 6u, true);
+    put_number(&l, micro_from_q16(o->pose.x), 6u, true);
+    put_number(&l, micro_from_q16(o->pose.y), 6u, true);
+    put_number(&l, microrad_from_bam(o->pose.theta), 6u, true);
+    put_number(&l, micro_from_q16(o->vx), 6u, true);
+    put_number(&l, micro_from_q16(o->vy), 6u, true);
+    put_number(&l, micro_from_q16(o->omega), 6u, true);
+    put_number(&l, o->flags, 0u, true);
+    put_number(&l, o->iterations, 0u, true);
+    put_number(&l, o->matches, 0u, false);
+    return l.len;
+}
+
+static void write_text(const ego_hal_t *hal, const char *text, size_t len)
+{
+    hal->write(hal->ctx, (const uint8_t *)text, len);
 }
 
 static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
@@ -128,26 +153,18 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
     if (loop->config.observer != NULL) {
         loop->config.observer(loop->config.observer_ctx, k, t_us, &out);
     }
-    line_t l = {loop->line, 0u};
-    if (!loop->header_written) {
-        put_text(&l, "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,"
-                     "iterations,matches\n");
-        write_line(hal, &l);
-        l.len = 0u;
-        loop->header_written = true;
+    if (loop->config.frames) {
+        uint8_t frame[EGO_FRAME_SIZE];
+        const size_t n = ego_frame_encode(frame, sizeof frame, k, t_us, &out);
+        hal->write(hal->ctx, frame, n);
+    } else {
+        if (!loop->header_written) {
+            write_text(hal, EGO_LOOP_CSV_HEADER, sizeof EGO_LOOP_CSV_HEADER - 1u);
+            loop->header_written = true;
+        }
+        const size_t n = ego_format_line(loop->line, sizeof loop->line, k, t_us, &out);
+        write_text(hal, loop->line, n);
     }
-    put_number(&l, k, 0u, true);
-    put_number(&l, t_us, 6u, true);
-    put_number(&l, micro_from_q16(out.pose.x), 6u, true);
-    put_number(&l, micro_from_q16(out.pose.y), 6u, true);
-    put_number(&l, microrad_from_bam(out.pose.theta), 6u, true);
-    put_number(&l, micro_from_q16(out.vx), 6u, true);
-    put_number(&l, micro_from_q16(out.vy), 6u, true);
-    put_number(&l, micro_from_q16(out.omega), 6u, true);
-    put_number(&l, out.flags, 0u, true);
-    put_number(&l, out.iterations, 0u, true);
-    put_number(&l, out.matches, 0u, false);
-    write_line(hal, &l);
     loop->stats.lines++;
     loop->stats.predicted += (out.flags & EGO_FLAG_PREDICTED) ? 1u : 0u;
     loop->stats.restarts += (out.flags & EGO_FLAG_FIRST) ? 1u : 0u;

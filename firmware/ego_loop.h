@@ -7,7 +7,9 @@
  *
  *   scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches
  *
- * (the header once, first). scan counts decoded scans from 0; time_s is
+ * (the header once, first; ego_format_line makes the line). Or, with
+ * config.frames, one binary frame per scan after the first instead
+ * (ego_frame.h; no header). scan counts decoded scans from 0; time_s is
  * scan * period (replay of a recording without timestamps) or the HAL
  * clock at the telegram's arrival, relative to the first scan; the pose is
  * the scan's position in the frame of the previous scan; flags are
@@ -66,6 +68,7 @@ typedef struct {
      * scans, 1/37.5 s at 0.5 deg, 1/18.75 s at 0.25 deg). */
     uint32_t period_us;
     bool use_clock;            /* true: stamp scans with hal->now_us instead */
+    bool frames;               /* true: an ego_frame.h frame per scan, not the CSV line */
 } ego_loop_config_t;
 
 void ego_loop_defaults(ego_loop_config_t *config);
@@ -74,7 +77,7 @@ typedef struct {
     uint32_t bytes;          /* read from the HAL */
     uint32_t scans;          /* B0 telegrams decoded */
     uint32_t decode_errors;  /* B0 telegrams the decoder or estimator refused */
-    uint32_t lines;          /* motion lines written */
+    uint32_t lines;          /* motion lines (or frames) written */
     uint32_t predicted;      /* of which carried a prediction, not a match */
     uint32_t restarts;       /* EGO_FLAG_FIRST after the first scan */
 } ego_loop_stats_t;
@@ -122,5 +125,20 @@ const ego_loop_stats_t *ego_loop_stats(const ego_loop_t *loop);
 /* Formats value / 10^decimals ("-1.250000"), rounded already by the
  * caller; returns the length written (at most 24 + NUL). */
 size_t ego_format_fixed(char *out, int64_t value, unsigned decimals);
+
+/* The CSV header line ego_loop writes before the first line. */
+#define EGO_LOOP_CSV_HEADER \
+    "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches\n"
+
+/* The CSV line of one scan, newline included, NUL-terminated: scan index,
+ * time_us as seconds, pose x / y (Q16.16 m) and theta (binary angle, as
+ * radians in [-pi, pi)), vx / vy / omega (Q16.16), flags, iterations and
+ * matches of o, each rounded to six decimals where it has them. Reads no
+ * other field of o. Returns the length written; a line never needs more
+ * than EGO_LOOP_LINE_MAX bytes, a smaller cap truncates it (cap 0: nothing
+ * written). Shared by ego_loop and the frame decoder's users, so both
+ * print the same bytes. */
+size_t ego_format_line(char *out, size_t cap, uint32_t scan, uint32_t time_us,
+                       const ego_output_t *o);
 
 #endif /* EGO_LOOP_H */

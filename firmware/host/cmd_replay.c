@@ -1,6 +1,6 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
  * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
- * [--tum OUT] [--scan-step K] [--scan-offset O]`:
+ * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
@@ -13,7 +13,10 @@
  * numbers count decoded scans; the format relpose_eval.py reads); a
  * restart (flag 1) has no relative pose and gives no line. --tum OUT
  * writes the integrated trajectory `time x y z qx qy qz qw`, starting at
- * the origin; across a restart it holds the last pose.
+ * the origin; across a restart it holds the last pose. --frames OUT runs
+ * the loop in its frame mode (ego_frame.h) into OUT and prints the same
+ * CSV from the observer with ego_format_line; `lmsego frames OUT` gives it
+ * back.
  *
  * --scan-step K and --scan-offset O are for a stream made with
  * `import-carmen --stride K --offset O`: stream scan s is log scan
@@ -42,6 +45,8 @@ typedef struct {
     unsigned long scan_step;   /* --scan-step: log scans per stream scan */
     unsigned long scan_offset; /* --scan-offset: log number of stream scan 0 */
     FILE *tum;    /* --tum, or NULL */
+    FILE *frames; /* --frames: the loop's output goes here, or NULL */
+    int header_written; /* --frames: the CSV header is out */
     double x, y, theta; /* integrated pose for --tum */
 } replay_io_t;
 
@@ -60,6 +65,15 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
     /* Numbered as in the log the stream came from (scan >= 1 here). */
     const unsigned long step = io->scan_step;
     const unsigned long first = io->scan_offset;
+    if (io->frames != NULL) { /* the loop writes frames: the CSV comes from here */
+        char line[EGO_LOOP_LINE_MAX];
+        const size_t n = ego_format_line(line, sizeof line, scan, time_us, out);
+        if ((!io->header_written && fputs(EGO_LOOP_CSV_HEADER, stdout) == EOF) ||
+            fwrite(line, 1u, n, stdout) != n) {
+            io->write_failed = 1;
+        }
+        io->header_written = 1;
+    }
     if (io->pairs != NULL && !restart &&
         fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n",
                 first + step * (scan - 1ul), first + step * scan, (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
@@ -198,7 +212,7 @@ static int32_t hal_read(void *ctx, uint8_t *buf, size_t cap)
 static void hal_write(void *ctx, const uint8_t *buf, size_t len)
 {
     replay_io_t *io = ctx;
-    if (fwrite(buf, 1u, len, stdout) != len) {
+    if (fwrite(buf, 1u, len, io->frames != NULL ? io->frames : stdout) != len) {
         io->write_failed = 1;
     }
 }
@@ -233,6 +247,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *pairs_path = NULL;
     const char *prior_path = NULL;
     const char *tum_path = NULL;
+    const char *frames_path = NULL;
     unsigned long scan_step = 1u;
     unsigned long scan_offset = 0u;
     for (int i = 1; i < argc; i++) {
@@ -260,14 +275,17 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             }
             prior_path = value;
             i++;
-        } else if (strcmp(arg, "--pairs") == 0 || strcmp(arg, "--tum") == 0) {
+        } else if (strcmp(arg, "--pairs") == 0 || strcmp(arg, "--tum") == 0 ||
+                   strcmp(arg, "--frames") == 0) {
             if (value == NULL) {
                 return cli_usage_error(self, "missing file after", arg, NULL);
             }
             if (arg[2] == 'p') {
                 pairs_path = value;
-            } else {
+            } else if (arg[2] == 't') {
                 tum_path = value;
+            } else {
+                frames_path = value;
             }
             i++;
         } else if (strcmp(arg, "--scan-step") == 0) {
@@ -321,8 +339,10 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         return CLI_EXIT_RUNTIME;
     }
     if ((pairs_path != NULL && (io.pairs = open_output(pairs_path)) == NULL) ||
-        (tum_path != NULL && (io.tum = open_output(tum_path)) == NULL)) {
+        (tum_path != NULL && (io.tum = open_output(tum_path)) == NULL) ||
+        (frames_path != NULL && (io.frames = open_output(frames_path)) == NULL)) {
         (void)close_output(io.pairs, pairs_path);
+        (void)close_output(io.tum, tum_path);
         stream_file_close(&io.file);
         free(io.prior);
         free(io.has_prior);
@@ -335,6 +355,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     config.observer_ctx = &io;
     config.prior = give_prior;
     config.prior_ctx = &io;
+    config.frames = io.frames != NULL;
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, &io};
     ego_loop_init(&loop, &config);
     while (ego_loop_step(&loop, &hal) != EGO_LOOP_END) {
@@ -342,7 +363,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     stream_file_close(&io.file);
     free(io.prior);
     free(io.has_prior);
-    const int closed = close_output(io.pairs, pairs_path) | close_output(io.tum, tum_path);
+    const int closed = close_output(io.pairs, pairs_path) | close_output(io.tum, tum_path) |
+                       close_output(io.frames, frames_path);
     if (io.failed) {
         char why[128];
         cli_file_error(io.file.bad != NULL ? "bad recording " : "error reading ", shown,

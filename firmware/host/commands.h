@@ -15,6 +15,10 @@ int cmd_scans(const cli_command_t *self, int argc, char **argv);
  * firmware loop over a recording; ego-motion CSV on stdout. */
 int cmd_replay(const cli_command_t *self, int argc, char **argv);
 
+/* lmsego frames FILE: binary ego-motion frames (ego_frame.h) back to the
+ * replay CSV; decoder counters on stderr (cmd_frames.c). */
+int cmd_frames(const cli_command_t *self, int argc, char **argv);
+
 /* lmsego import-carmen LOG -o STREAM [--odometry OUT] [--no-return M]. */
 int cmd_import_carmen(const cli_command_t *self, int argc, char **argv);
 

@@ -18,8 +18,10 @@ static const cli_command_t commands[] = {
     {"scans", "[--mode HEX] FILE", "print every decoded B0 scan, one line per scan", cmd_scans},
     {"replay",
      "[--period S] [--mount X,Y,DEG] [--mode HEX] [--icp] [--hist KIND] [--prior FILE] "
-     "[--pairs OUT] [--tum OUT] [--scan-step K] [--scan-offset O] FILE",
+     "[--pairs OUT] [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] FILE",
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
+    {"frames", "FILE", "decode a captured stream of binary ego-motion frames to the replay CSV",
+     cmd_frames},
     {"import-carmen", "LOG -o STREAM [--odometry OUT] [--no-return M] [--stride K] [--offset O]",
      "convert a CARMEN laser log (plain or .gz) into an LMS 2xx telegram stream",
      cmd_import_carmen},

@@ -250,3 +250,47 @@ if(UNIX)
         set_tests_properties(live_${c} PROPERTIES LABELS "live" TIMEOUT 180)
     endforeach()
 endif()
+
+# --- binary ego-motion frames: replay --frames, frames ----------------------
+# Every sequence and a recording both ways (frames_roundtrip.cmake: the CSV
+# of `frames` equals replay's byte for byte, also from a damaged stream).
+# The mm sequence is replayed in its measuring mode, as its accuracy test
+# does (in the default mode it takes ten times longer).
+file(GLOB LMSEGO_FRAME_STREAMS ${LMSEGO_SEQ}/*.lms)
+list(APPEND LMSEGO_FRAME_STREAMS ${LMSEGO_RECORDINGS}/room_181_mm.lms)
+foreach(stream IN LISTS LMSEGO_FRAME_STREAMS)
+    get_filename_component(name ${stream} NAME_WE)
+    set(extra "")
+    if(name STREQUAL "circle_361_mm_noise")
+        set(extra "--mode;0F")
+    endif()
+    add_test(NAME cli_frames_roundtrip_${name}
+        COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> -DSTREAM=${stream}
+                "-DEXTRA=${extra}" -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/frames/${name}
+                -P ${LMSEGO_CLI_DATA}/frames_roundtrip.cmake)
+    set_tests_properties(cli_frames_roundtrip_${name} PROPERTIES LABELS "cli")
+endforeach()
+lmsego_cli_test(frames_help ARGS frames --help
+    OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego\ frames -DEXPECT_STDERR_EMPTY=ON)
+lmsego_cli_test(frames_no_file ARGS frames
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON "-DSTDERR_REGEX=missing FILE")
+lmsego_cli_test(frames_bad_option ARGS frames --bogus ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--bogus)
+lmsego_cli_test(frames_two_files
+    ARGS frames ${LMSEGO_CLI_DATA}/vectors.lms ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON)
+lmsego_cli_test(frames_missing_file ARGS frames ${LMSEGO_CLI_MISSING}
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            -DSTDERR_REGEX=no-such-file\\.lms)
+lmsego_cli_test(frames_directory ARGS frames ${LMSEGO_CLI_DATA}
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            -DSTDERR_REGEX=[Dd]irectory)
+# Not a frame stream (LMS telegrams): nothing decoded, every byte skipped, exit 0.
+lmsego_cli_test(frames_of_telegrams ARGS frames ${LMSEGO_CLI_DATA}/vectors.lms
+    OPTIONS -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=frames=0 crc_errors=[0-9]+ length_errors=[0-9]+ truncated=[01] bytes_skipped=[1-9]")
+lmsego_cli_test(replay_frames_missing_value ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms --frames
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--frames)
+lmsego_cli_test(replay_frames_unwritable ARGS replay --frames /nonexistent-dir/x.bin
+    ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=x\\.bin)
