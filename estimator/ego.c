@@ -4,6 +4,12 @@
 #include <stddef.h>
 #include <string.h>
 
+#if defined(EGO_PROFILE)
+#define STAGE(s) ego_profile_stage(s)
+#else
+#define STAGE(s) ((void)0)
+#endif
+
 /* round(2 pi * 2^16): radians in Q16.16 per 2^32 binary angle units. */
 #define RAD_Q16_PER_TURN 411775
 #define US_PER_S 1000000
@@ -103,11 +109,15 @@ static itcp_status_t register_from(const ego_scan_t *last, const ego_scan_t *cur
                                    fx_bam32_t main_direction, const ego_pose_t *start,
                                    const ego_params_t *params, itcp_result_t *r)
 {
+    STAGE(EGO_STAGE_REGISTER);
     itcp_result_t held;
     const itcp_status_t st =
         itcp_register(last, current, main_direction, start, true, &params->itcp, &held);
     const ego_pose_t second = (st == ITCP_OK) ? held.pose : *start;
-    return itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
+    const itcp_status_t result =
+        itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
+    STAGE(EGO_STAGE_OTHER);
+    return result;
 }
 
 /* Is one group too small to be judged on its own: under a fifth of the
@@ -164,6 +174,7 @@ static itcp_status_t search_from(const ego_scan_t *last, const ego_scan_t *curre
 {
     ego_pose_t found = *centre;
     uint64_t score = 0u;
+    STAGE(EGO_STAGE_COARSE);
     coarse_search(last, current, main_direction, centre, cp, &found, &score);
     return register_from(last, current, main_direction, &found, params, r);
 }
@@ -213,11 +224,16 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     memset(out, 0, sizeof *out);
     const uint8_t cur = state->have_last ? (uint8_t)(1u - state->last) : state->last;
     ego_scan_t *current = &state->slot[cur];
+    STAGE(EGO_STAGE_PREPARE);
     if (ego_scan_prepare(scan, &params->prep, current) != EGO_PREP_OK) {
+        STAGE(EGO_STAGE_OTHER);
         return EGO_ERR_SCAN;
     }
+    STAGE(EGO_STAGE_TANGENTS);
     tfit_fit_scan(current, &params->tfit);
+    STAGE(EGO_STAGE_HISTOGRAM);
     (void)hist_build(current, &params->hist, &state->hist[cur]);
+    STAGE(EGO_STAGE_OTHER);
     out->points = current->count;
 
     const uint32_t dt = time_us - state->last_time_us;
@@ -242,9 +258,11 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         hist_match_t hm;
         /* Around the prior's rotation, if any. */
         const fx_bam32_t expected = (prior != NULL) ? prior->theta : 0u;
+        STAGE(EGO_STAGE_CORRELATE);
         hist_correlate(&state->hist[cur], &state->hist[state->last], expected,
                        params->max_rotation_bins,
                        params->merge_bins, &hm);
+        STAGE(EGO_STAGE_OTHER);
         /* Candidates: the histogram's peaks, plus the predicted rotation
          * when the histogram is not trustworthy. */
         fx_bam32_t rotation[HIST_MAX_CANDIDATES + 3u]; /* + prior, prediction, sweep */

@@ -130,6 +130,26 @@ typedef struct {
 /* Starts over: the next scan is a first scan. */
 void ego_reset(ego_state_t *state);
 
+/* The stages of ego_process, for profiling where the work goes. Built with
+ * EGO_PROFILE defined, ego_process calls ego_profile_stage (which the
+ * platform provides) as each stage begins; the work between two calls
+ * belongs to the first one's stage. Without EGO_PROFILE nothing is
+ * called (the firmware's profile images use it: docs/firmware.md). */
+typedef enum {
+    EGO_STAGE_PREPARE = 0, /* polar -> points, segments */
+    EGO_STAGE_TANGENTS,    /* robust tangents */
+    EGO_STAGE_HISTOGRAM,   /* the tangent-angle histogram */
+    EGO_STAGE_CORRELATE,   /* histogram correlation: rotation candidates */
+    EGO_STAGE_REGISTER,    /* ITCP */
+    EGO_STAGE_COARSE,      /* the coarse translation (and rotation) search */
+    EGO_STAGE_OTHER,       /* the rest: choosing, prediction, bookkeeping */
+    EGO_STAGE_COUNT
+} ego_stage_t;
+
+#if defined(EGO_PROFILE)
+void ego_profile_stage(ego_stage_t stage);
+#endif
+
 typedef enum {
     EGO_OK = 0,
     EGO_ERR_ARG = -1,   /* NULL pointer */

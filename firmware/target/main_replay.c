@@ -8,6 +8,7 @@
  * with SysTick under QEMU's -icount (target.h), and the stack high-water
  * mark. After the stream it writes, as lines starting with '#':
  *   # insns_per_scan median=N max=M scans=S
+ *   # stage_insns prepare=.. tangents=.. ... (profile images only)
  *   # stack_bytes used=U of=T
  * and exits 0 (semihosting). The lines before them are byte-identical to
  * `lmsego replay` of the same stream (ctest target_replay_*).
@@ -80,6 +81,24 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
     insns_max = n > insns_max ? n : insns_max;
 }
 
+#if defined(EGO_PROFILE)
+/* Profile images (estimator built with EGO_PROFILE): the instructions of
+ * each estimator stage, summed over the stream. Framing, decoding and the
+ * output line fall into EGO_STAGE_OTHER with the estimator's own
+ * bookkeeping. */
+static uint64_t stage_insns[EGO_STAGE_COUNT];
+static ego_stage_t stage_now = EGO_STAGE_OTHER;
+static uint64_t stage_mark;
+
+void ego_profile_stage(ego_stage_t stage)
+{
+    const uint64_t t = target_instructions();
+    stage_insns[stage_now] += t - stage_mark;
+    stage_now = stage;
+    stage_mark = t;
+}
+#endif
+
 /* Insertion sort: at most MAX_MEASURED entries, once. */
 static uint32_t median(uint32_t *v, uint32_t n)
 {
@@ -116,6 +135,15 @@ int main(void)
     put_field("# insns_per_scan median=", (uint64_t)median(insns, measured) * TARGET_INSNS_PER_TICK);
     put_field(" max=", (uint64_t)insns_max * TARGET_INSNS_PER_TICK);
     put_field(" scans=", ego_loop_stats(&loop)->scans);
+#if defined(EGO_PROFILE)
+    ego_profile_stage(EGO_STAGE_OTHER);
+    static const char *const names[EGO_STAGE_COUNT] = {
+        "\n# stage_insns prepare=", " tangents=", " histogram=", " correlate=",
+        " register=", " coarse=", " other="};
+    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
+        put_field(names[k], stage_insns[k]);
+    }
+#endif
     put_field("\n# stack_bytes used=", target_stack_used());
     put_field(" of=", target_stack_size());
     target_uart_puts("\n");
