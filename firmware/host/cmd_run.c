@@ -24,6 +24,9 @@
  * closes the port and reopens it every 200 ms until it comes back.
  * SIGINT / SIGTERM (or --scans N reached) stop cleanly: stream off (20 25)
  * and the scanner back at 9600 baud, where the next start finds it fast.
+ * After --scans N the scans still queued for the estimator get their
+ * lines; after a signal they are dropped (counted on stderr), so an
+ * interrupt never waits for a backlog.
  * Exit status: 0 after a clean stop, 1 when the port cannot be used or the
  * scanner refuses a setting, 2 for a bad command line. The last stderr line
  * holds the counters.
@@ -377,8 +380,14 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     uint64_t next_reopen_us = 0u;
     static uint8_t buf[4096];
     while (!done || queue.count > 0u) {
+        if (done && live_stop_requested()) {
+            /* Interrupted: stop now; the queued scans are counted, not run. */
+            queue.dropped += queue.count;
+            queue.count = 0u;
+            break;
+        }
         if (done) {
-            /* Stopped: what is queued still gets its line. */
+            /* --scans N reached: the scans queued still get their lines. */
             const queued_scan_t *e = queue_pop(&queue);
             if (e->len == 0u) {
                 ego_loop_gap(&loop);

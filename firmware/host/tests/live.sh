@@ -45,7 +45,7 @@ fail() {
 start_scanner() {
     rm -f path.fifo
     mkfifo path.fifo || fail "mkfifo"
-    timeout "$T" "$lmsego" "$@" > path.fifo 2> sim.err &
+    timeout -k 10 "$T" "$lmsego" "$@" > path.fifo 2> sim.err &
     sim_pid=$!
     exec 3< path.fifo
     IFS= read -r dev <&3 || fail "the simulator printed no path"
@@ -71,8 +71,20 @@ same_as_replay() {
 run_scans() { # N [run options]: run until N scans
     n=$1
     shift
-    timeout "$T" "$lmsego" run --port "$dev" --scans "$n" "$@" > run.csv 2> run.err ||
+    timeout -k 10 "$T" "$lmsego" run --port "$dev" --scans "$n" "$@" > run.csv 2> run.err ||
         fail "run exited with $?"
+}
+
+# counter NAME FILE: the value of NAME=<n> on the last line of FILE that has it.
+counter() {
+    sed -n "s/.* $1=\([0-9][0-9]*\).*/\1/p" "$2" | tail -n 1
+}
+
+# at_least NAME N FILE: counter NAME is at least N (a chunk read at the end
+# can bring one scan more than asked for).
+at_least() {
+    v=$(counter "$1" "$3")
+    [ -n "$v" ] && [ "$v" -ge "$2" ] || fail "$1=${v:-none}, wanted at least $2"
 }
 
 campus=$data/sequences/campus_181_cm.lms
@@ -84,7 +96,8 @@ stream)
     run_scans 300 --variant 180,1
     stop_scanner
     grep -q "at 500000 baud" run.err || fail "not streaming at 500000"
-    grep -q "scans=300 .*restarts=0" run.err || fail "restarts or lost scans"
+    at_least scans 300 run.err
+    [ "$(counter restarts run.err)" = 0 ] || fail "restarted"
     same_as_replay looped.lms 300
     ;;
 baud-*)
@@ -119,8 +132,8 @@ fault-silence | fault-power | fault-hangup)
     run_scans 300 --variant 180,1
     stop_scanner
     grep -q "$want" run.err || fail "the fault was not seen ($want)"
-    grep -q "restarts=1 " run.err || fail "expected one restart"
-    grep -q "scans=300 " run.err || fail "did not get 300 scans"
+    [ "$(counter restarts run.err)" = 1 ] || fail "expected one restart"
+    at_least scans 300 run.err
     # The first scan after the restart starts over: flag 1 (EGO_FLAG_FIRST).
     awk -F, 'NR > 2 && $9 % 2 == 1 { found = 1 } END { exit !found }' run.csv ||
         fail "no line with the restart flag"
@@ -129,7 +142,7 @@ fault-bytes)
     start_scanner sim --source "$campus" --faults "drop=200,flip=200,insert=200,seed=3"
     run_scans 300 --variant 180,1
     stop_scanner
-    grep -q "scans=300 " run.err || fail "did not get 300 scans"
+    at_least scans 300 run.err
     awk '/crc_errors=/ { for (i = 1; i <= NF; i++) if ($i ~ /^crc_errors=/) { split($i, a, "="); if (a[2] + 0 > 0) ok = 1 } }
          END { exit !ok }' run.err || fail "no damaged telegram was seen"
     ;;
@@ -137,16 +150,16 @@ fault-nak)
     start_scanner sim --source "$campus" --faults "nak=25,seed=5"
     run_scans 50
     stop_scanner
-    grep -q "scans=50 " run.err || fail "did not get 50 scans"
+    at_least scans 50 run.err
     grep -Eq "naks=[1-9]" run.err || fail "no NAK was seen"
     ;;
 record-play)
     start_scanner sim --source "$campus"
-    timeout "$T" "$lmsego" record --port "$dev" -o first.rec --scans 150 2> rec.err ||
+    timeout -k 10 "$T" "$lmsego" record --port "$dev" -o first.rec --scans 150 2> rec.err ||
         fail "record exited with $?"
     stop_scanner
     start_scanner play first.rec --pty
-    timeout "$T" "$lmsego" record --port "$dev" -o second.rec --scans 120 2> rec2.err ||
+    timeout -k 10 "$T" "$lmsego" record --port "$dev" -o second.rec --scans 120 2> rec2.err ||
         fail "second record exited with $?"
     stop_scanner
     "$lmsego" scans first.rec > first.scans || fail "scans of the first recording"
@@ -160,7 +173,7 @@ sigint)
     start_scanner sim --source "$campus"
     rm -f run.fifo
     mkfifo run.fifo
-    timeout "$T" "$lmsego" run --port "$dev" > run.fifo 2> run.err &
+    timeout -k 10 "$T" "$lmsego" run --port "$dev" > run.fifo 2> run.err &
     run_pid=$!
     exec 4< run.fifo
     i=0
