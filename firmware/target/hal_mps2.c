@@ -53,6 +53,13 @@ void target_uart_write(const uint8_t *bytes, size_t len)
     }
 }
 
+void target_uart_putc(int c)
+{
+    while ((UART_STATE & UART_STATE_TX_FULL) != 0u) {
+    }
+    UART_DATA = (unsigned char)c;
+}
+
 void target_uart_puts(const char *text)
 {
     size_t n = 0u;

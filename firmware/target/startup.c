@@ -3,6 +3,7 @@
  * for the high-water mark, the FPU enabled on M4F, then main(). Every
  * fault ends the run with its own exit code (target.h), so a crash fails
  * a test instead of hanging it. */
+#include <stddef.h>
 #include <stdint.h>
 
 #include "target.h"
@@ -10,7 +11,9 @@
 /* From the linker script (mps2.ld). */
 extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss, _sstack, _estack;
 
-int main(void);
+/* Called as main(0, {NULL}): images define int main(void) or, like the
+ * host test programs, int main(int argc, char **argv) (target.h). */
+int main(int argc, char **argv);
 void Reset_Handler(void);
 void SysTick_Handler(void);
 
@@ -103,8 +106,15 @@ void Reset_Handler(void)
     *(volatile uint32_t *)0xE000ED88u |= 0xFu << 20;
     __asm__ volatile("dsb\n\tisb" ::: "memory");
 #endif
-    const int rc = main();
-    target_exit(rc == 0 ? TARGET_EXIT_RETURNED : rc);
+    char *no_arguments[1] = {NULL}; /* lives as long as main: this never returns */
+    const int rc = main(0, no_arguments);
+    target_exit(target_main_exit_code(rc));
+}
+
+/* The product images' rule (target.h); unit-test images override it. */
+__attribute__((weak)) int target_main_exit_code(int main_returned)
+{
+    return main_returned == 0 ? TARGET_EXIT_RETURNED : main_returned;
 }
 
 uint32_t target_stack_size(void)

@@ -15,6 +15,11 @@
 /* Exit codes of a run (QEMU's own exit status). */
 #define TARGET_EXIT_OK 0
 #define TARGET_EXIT_FAILED 1        /* the image's own check failed */
+/* Unit-test images (unit/unit_exit.c): 1..119 failed tests (more are
+ * reported as 119), 120 the test harness was misused (a TEST_ macro
+ * outside RUN_TEST). */
+#define TARGET_EXIT_TESTS_FAILED_MAX 119
+#define TARGET_EXIT_ABORTED 120
 #define TARGET_EXIT_HARDFAULT 121
 #define TARGET_EXIT_MEMMANAGE 122
 #define TARGET_EXIT_BUSFAULT 123
@@ -26,6 +31,16 @@
 /* Ends the run: semihosting SYS_EXIT_EXTENDED, QEMU exits with code. */
 _Noreturn void target_exit(int code);
 
+/* startup.c calls main(0, {NULL}) (argc 0, like a program started without
+ * a name; main(void) works as well) and ends the run with
+ * target_exit(target_main_exit_code(main's return value)). The default
+ * (weak, startup.c) is the product images' rule: they end with target_exit
+ * themselves, so a return is flagged as TARGET_EXIT_RETURNED, except a
+ * nonzero value, which is passed on. Unit-test images link unit/unit_exit.c,
+ * whose definition makes the return value (UNITY_END(), the number of
+ * failed tests) the exit code, so 0 is success. */
+int target_main_exit_code(int main_returned);
+
 /* UART0: transmitter on (115200 8N1 on a real board; QEMU ignores the
  * divider). */
 void target_uart_init(void);
@@ -33,6 +48,9 @@ void target_uart_init(void);
 void target_uart_write(const uint8_t *bytes, size_t len);
 /* A NUL-terminated text. */
 void target_uart_puts(const char *text);
+/* One character, given as putchar takes it (the low 8 bits are sent): the
+ * output hook of the unit-test images (unit/unity_config.h). */
+void target_uart_putc(int c);
 
 /* SysTick as a free-running counter of the core clock (25 MHz on MPS2),
  * with an interrupt counting its 2^24 wraps. Under QEMU with

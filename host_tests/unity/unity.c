@@ -1,22 +1,47 @@
 /* unity.c - the project's Unity-compatible harness; see unity.h.
  *
  * Written from ../shared/guides/unity-subset.md (behaviour of Unity v2.7.0),
- * not from Unity's sources. Output goes to stdout through putchar; user
- * strings (file, test name, messages, compared strings) print printable
- * ASCII as is and everything else escaped (\n, \r, \xNN), so one result is
- * always one line.
+ * not from Unity's sources. Output goes through UNITY_OUTPUT_CHAR, by
+ * default putchar on stdout (unity.h, "Output"); user strings (file, test
+ * name, messages, compared strings) print printable ASCII as is and
+ * everything else escaped (\n, \r, \xNN), so one result is always one line.
  */
 #include "unity.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-/* Float printing: significant digits, and the magnitude below which a value
- * prints as "0" (Unity's UNITY_FLOAT_PRECISION / UNITY_DOUBLE_PRECISION). */
+/* Output hooks (unity.h, "Output"). Without UNITY_OUTPUT_CHAR: putchar and
+ * fflush on stdout, as always. With it, nothing of stdio is used. */
+#ifdef UNITY_OUTPUT_CHAR
+#define UNITY_CUSTOM_OUTPUT_ 1
+#else
+#define UNITY_CUSTOM_OUTPUT_ 0
+#define UNITY_OUTPUT_CHAR(c) ((void)putchar(c))
+#endif
+#ifndef UNITY_OUTPUT_START
+#define UNITY_OUTPUT_START() ((void)0)
+#endif
+#ifndef UNITY_OUTPUT_FLUSH
+#if UNITY_CUSTOM_OUTPUT_
+#define UNITY_OUTPUT_FLUSH() ((void)0)
+#else
+#define UNITY_OUTPUT_FLUSH() ((void)fflush(stdout))
+#endif
+#endif
+#ifndef UNITY_OUTPUT_ABORT
+#define UNITY_OUTPUT_ABORT() abort()
+#endif
+
+/* Float printing: significant digits (printf's "%.7g", or "%.9g" with
+ * doubles), and the magnitude below which a value prints as "0" (Unity's
+ * UNITY_FLOAT_PRECISION / UNITY_DOUBLE_PRECISION). */
 #ifdef UNITY_INCLUDE_DOUBLE
+#define UNITY_FLOAT_DIGITS_ 9u
 #define UNITY_FLOAT_FORMAT_ "%.9g"
 #define UNITY_PRINT_ZERO_BELOW_ 1e-12
 #else
+#define UNITY_FLOAT_DIGITS_ 7u
 #define UNITY_FLOAT_FORMAT_ "%.7g"
 #define UNITY_PRINT_ZERO_BELOW_ 1e-5
 #endif
@@ -42,7 +67,7 @@ static struct {
 
 static void put(char c)
 {
-    (void)putchar((unsigned char)c);
+    UNITY_OUTPUT_CHAR((unsigned char)c);
 }
 
 /* Fixed text of the harness itself, written as is. */
@@ -121,6 +146,98 @@ static void print_styled(uintmax_t value, UNITY_DISPLAY_STYLE_T style)
     }
 }
 
+#if UNITY_CUSTOM_OUTPUT_
+/* printf's "%.<digits>g" by hand (no stdio with a custom output), for a
+ * finite value of magnitude at least UNITY_PRINT_ZERO_BELOW_; digits <= 17.
+ * The magnitude is scaled into [1, 10) by one power of ten (exact up to
+ * 10^22) and rounded half up to <digits> significant digits. printf rounds
+ * the exact binary value instead, so the last digit can differ when the
+ * value lies within a rounding error of a tie; the self-test's values print
+ * the same either way. */
+static void print_significant(double value, unsigned digits)
+{
+    if (value < 0.0) {
+        put('-');
+        value = -value;
+    }
+    /* scaled = value / 10^exponent, 1 <= scaled < 10 (up to rounding). */
+    int exponent = 0;
+    double power = 1.0;
+    double scaled;
+    if (value >= 1.0) {
+        while (value >= power * 10.0) {
+            power *= 10.0;
+            exponent++;
+        }
+        scaled = value / power;
+    } else {
+        while (value * power < 1.0) {
+            power *= 10.0;
+            exponent--;
+        }
+        scaled = value * power;
+    }
+    uint64_t unit = 1u; /* 10^(digits - 1) */
+    for (unsigned i = 1u; i < digits; i++) {
+        unit *= 10u;
+    }
+    uint64_t mantissa = (uint64_t)(scaled * (double)unit + 0.5);
+    if (mantissa >= unit * 10u) { /* rounded up to the next power of ten */
+        mantissa = unit;
+        exponent++;
+    } else if (mantissa < unit) { /* scaled fell just below 1 */
+        mantissa = unit;
+    }
+    char text[20] = {0}; /* the <digits> significant digits */
+    for (unsigned i = digits; i > 0u; i--) {
+        text[i - 1u] = (char)('0' + (int)(mantissa % 10u));
+        mantissa /= 10u;
+    }
+    unsigned used = digits; /* without trailing zeros, at least one digit */
+    while (used > 1u && text[used - 1u] == '0') {
+        used--;
+    }
+    if (exponent < -4 || exponent >= (int)digits) {
+        /* d[.ddd]e<sign><at least two digits> */
+        put(text[0]);
+        if (used > 1u) {
+            put('.');
+            for (unsigned i = 1u; i < used; i++) {
+                put(text[i]);
+            }
+        }
+        put('e');
+        put(exponent < 0 ? '-' : '+');
+        const unsigned magnitude = (unsigned)(exponent < 0 ? -exponent : exponent);
+        if (magnitude < 10u) {
+            put('0');
+        }
+        print_uint(magnitude);
+    } else if (exponent >= 0) {
+        /* ddd[.ddd]: exponent + 1 digits before the point */
+        const unsigned whole = (unsigned)exponent + 1u;
+        for (unsigned i = 0u; i < whole; i++) {
+            put(text[i]);
+        }
+        if (used > whole) {
+            put('.');
+            for (unsigned i = whole; i < used; i++) {
+                put(text[i]);
+            }
+        }
+    } else {
+        /* 0.000ddd: -exponent - 1 zeros after the point */
+        emit("0.");
+        for (int i = exponent + 1; i < 0; i++) {
+            put('0');
+        }
+        for (unsigned i = 0u; i < used; i++) {
+            put(text[i]);
+        }
+    }
+}
+#endif
+
 static void print_float(double value)
 {
     if (isnan(value)) {
@@ -130,9 +247,13 @@ static void print_float(double value)
     } else if (fabs(value) < UNITY_PRINT_ZERO_BELOW_) {
         emit("0");
     } else {
+#if UNITY_CUSTOM_OUTPUT_
+        print_significant(value, UNITY_FLOAT_DIGITS_);
+#else
         char text[40];
         (void)snprintf(text, sizeof text, UNITY_FLOAT_FORMAT_, value);
         emit(text);
+#endif
     }
 }
 
@@ -165,10 +286,17 @@ static void print_result(UNITY_LINE_TYPE line, const char *kind)
 static void result_begin(UNITY_LINE_TYPE line, const char *kind)
 {
     if (!unity_.running) {
+#if UNITY_CUSTOM_OUTPUT_
+        emit("unity: line ");
+        print_uint(line);
+        emit(": TEST_ macro reported outside RUN_TEST\n");
+        UNITY_OUTPUT_FLUSH();
+#else
         (void)fflush(stdout);
         (void)fprintf(stderr, "unity: line %lu: TEST_ macro reported outside RUN_TEST\n",
                       line);
-        abort();
+#endif
+        UNITY_OUTPUT_ABORT();
     }
     print_result(line, kind);
 }
@@ -207,6 +335,7 @@ static _Noreturn void fail_with(UNITY_LINE_TYPE line, const char *detail, const 
 
 void UnityBegin(const char *filename)
 {
+    UNITY_OUTPUT_START();
     unity_.file = filename;
     unity_.name = NULL;
     unity_.tests = 0u;
@@ -241,7 +370,7 @@ void UnityDefaultTestRun(UnityTestFunction func, const char *name, UNITY_LINE_TY
         print_result(unity_.line, "PASS");
     }
     put('\n');
-    (void)fflush(stdout);
+    UNITY_OUTPUT_FLUSH();
 }
 
 int UnityEnd(void)
@@ -254,7 +383,7 @@ int UnityEnd(void)
     print_uint(unity_.ignores);
     emit(" Ignored \n");
     emit(unity_.failures == 0u ? "OK\n" : "FAIL\n");
-    (void)fflush(stdout);
+    UNITY_OUTPUT_FLUSH();
     return unity_.failures > (unsigned long)INT_MAX ? INT_MAX : (int)unity_.failures;
 }
 

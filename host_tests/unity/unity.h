@@ -13,7 +13,25 @@
  * concludes. Once a test has failed or been ignored, every further assertion
  * of that test returns silently, so only the first failure is reported.
  * Assertions that fail outside RUN_TEST abort the process with a message on
- * stderr.
+ * stderr (by default; see "Output").
+ *
+ * Output: every character goes through UNITY_OUTPUT_CHAR(c) (c an int
+ * holding an unsigned char value, as putchar takes it). By default that is
+ * putchar on stdout, followed by fflush(stdout) after every result line and
+ * the summary, and the "outside RUN_TEST" message goes to stderr before
+ * abort(). A build may define these hooks (all optional; the first three
+ * are Unity's configuration macros of those names, the last is this
+ * harness's own), on the compiler's command line or in unity_config.h,
+ * read when UNITY_INCLUDE_CONFIG_H is defined:
+ *   UNITY_OUTPUT_CHAR(c)     writes one character;
+ *   UNITY_OUTPUT_START()     called by UNITY_BEGIN() before any output;
+ *   UNITY_OUTPUT_FLUSH()     after every result line and the summary;
+ *   UNITY_OUTPUT_ABORT()     ends the program after the "outside RUN_TEST"
+ *                            message (default abort(); must not return).
+ * With UNITY_OUTPUT_CHAR defined the harness uses no stdio at all: that
+ * message goes through UNITY_OUTPUT_CHAR too, and floats are formatted by
+ * the harness itself instead of snprintf (unity.c, print_float). The
+ * Cortex-M test images use this (firmware/target/unit/unity_config.h: UART0).
  *
  * Doubles: define UNITY_INCLUDE_DOUBLE for both unity.c and the test file.
  * Without it TEST_ASSERT_DOUBLE_WITHIN* fails with
@@ -35,6 +53,11 @@
 #include <stdint.h>
 #include <limits.h>
 #include <stdio.h>
+
+/* Build-time configuration, as with Unity: see "Output" above. */
+#ifdef UNITY_INCLUDE_CONFIG_H
+#include "unity_config.h"
+#endif
 
 typedef unsigned long UNITY_LINE_TYPE;
 typedef void (*UnityTestFunction)(void);
