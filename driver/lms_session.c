@@ -338,7 +338,7 @@ static void finish_stop(lms_session_t *s)
 static void restart(lms_session_t *s, lms_session_cause_t cause, uint32_t now)
 {
     s->cause = cause;
-    if (s->state == LMS_SESSION_STREAMING || s->streamed) {
+    if (s->state == LMS_SESSION_STREAMING) {
         s->stats.restarts++;
         s->report_restart = true;
         if (cause == LMS_SESSION_CAUSE_SILENCE) {
@@ -349,7 +349,6 @@ static void restart(lms_session_t *s, lms_session_cause_t cause, uint32_t now)
             s->stats.restarts_link++;
         }
     }
-    s->streamed = false;
     s->backoff_us = s->config.backoff_min_us;
     if (cause == LMS_SESSION_CAUSE_POWER_ON) {
         /* It just powered up at the rate we hear it on. */
@@ -399,7 +398,6 @@ static void enter_streaming(lms_session_t *s, uint32_t now)
 {
     s->state = LMS_SESSION_STREAMING;
     s->phase = PH_IDLE;
-    s->streamed = true;
     s->report_streaming = true;
     s->last_scan_us = now;
     s->backoff_us = s->config.backoff_min_us;

@@ -206,12 +206,10 @@ typedef struct {
     uint8_t probe_index;       /* candidate in the discovery order */
     uint8_t sends;             /* sends of the current step */
     uint8_t phase;             /* within a step: drain, wait ACK, wait reply, NAK wait */
-    bool streamed;             /* STREAMING was reached since the last restart */
     bool report_streaming;     /* EV_STREAMING still to report */
     bool report_restart;
     bool report_stopped;
     bool report_failed;
-    bool need_status;          /* B1 not read since the last rate change */
     uint32_t deadline_us;      /* timeout of the current phase */
     uint32_t last_byte_us;     /* for the byte-gap flush */
     uint32_t last_scan_us;     /* STREAMING: the silence timer */

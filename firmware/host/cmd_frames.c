@@ -17,6 +17,7 @@
 #include "ego_frame.h"
 #include "ego_loop.h"
 #include "stream_file.h"
+#include "stream_frames.h"
 
 /* Prints one decoded frame; false on a write error. */
 static bool print_frame(const ego_frame_t *f, bool *header_written)
@@ -82,9 +83,7 @@ int cmd_frames(const cli_command_t *self, int argc, char **argv)
     ego_frame_flush(&dec);
     stream_file_close(&file);
     if (r == STREAM_READ_ERROR) {
-        char why[128];
-        cli_file_error(file.bad != NULL ? "bad recording " : "error reading ", shown,
-                       stream_file_problem(&file, why, sizeof why));
+        stream_frames_read_error(&file, shown);
         return CLI_EXIT_RUNTIME;
     }
     const ego_frame_stats_t *st = ego_frame_stats(&dec);

@@ -33,6 +33,7 @@
 #include "commands.h"
 #include "ego_loop.h"
 #include "stream_file.h"
+#include "stream_frames.h"
 
 typedef struct {
     stream_file_t file;
@@ -366,9 +367,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const int closed = close_output(io.pairs, pairs_path) | close_output(io.tum, tum_path) |
                        close_output(io.frames, frames_path);
     if (io.failed) {
-        char why[128];
-        cli_file_error(io.file.bad != NULL ? "bad recording " : "error reading ", shown,
-                       stream_file_problem(&io.file, why, sizeof why));
+        stream_frames_read_error(&io.file, shown);
         return CLI_EXIT_RUNTIME;
     }
     const ego_loop_stats_t *st = ego_loop_stats(&loop);

@@ -24,8 +24,9 @@ typedef struct {
     lms_scan_t scan;     /* scratch for the decoder */
 } scans_print_t;
 
-static int print_scan(void *ctx, const uint8_t *telegram, size_t len)
+static int print_scan(void *ctx, const uint8_t *telegram, size_t len, uint64_t time_us)
 {
+    (void)time_us;
     scans_print_t *p = ctx;
     if (len <= LMS_HEADER_SIZE || telegram[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
         return 0;

@@ -43,7 +43,7 @@
 #include "lms_pty.h"
 #include "lms_serial.h"
 #include "lms_sim.h"
-#include "stream_file.h"
+#include "stream_frames.h"
 
 /* --- Scan sources ------------------------------------------------------- */
 
@@ -107,71 +107,53 @@ static void recorded_free(recorded_t *r)
     memset(r, 0, sizeof *r);
 }
 
+/* One telegram of the file: B0 telegrams are kept, with the gap since the
+ * previous one when the file is a recording. */
+typedef struct {
+    recorded_t *r;
+    uint64_t last_time_us;
+} loading_t;
+
+static int load_telegram(void *ctx, const uint8_t *t, size_t len, uint64_t time_us)
+{
+    loading_t *l = ctx;
+    recorded_t *r = l->r;
+    static lms_scan_t scan;
+    if (len <= LMS_HEADER_SIZE || t[LMS_HEADER_SIZE] != LMS_REPLY_VALUES ||
+        lms_decode_scan(t, len, &scan) != LMS_OK) {
+        return 0;
+    }
+    if (r->count == 0u) {
+        r->values = scan.count;
+        r->partial = scan.is_partial;
+    }
+    uint32_t gap = 0u;
+    if (time_us != 0u && r->count > 0u) {
+        const uint64_t d = time_us - l->last_time_us;
+        gap = d > 10000000u ? 10000000u : (uint32_t)d;
+    }
+    l->last_time_us = time_us;
+    if (recorded_add(r, t, len, gap) != 0) {
+        cli_error("out of memory reading the scans");
+        return 1;
+    }
+    return 0;
+}
+
 /* Reads every B0 of path (raw stream or recording). Returns 0, or -1 after
  * a message. */
 static int recorded_load(recorded_t *r, const char *path)
 {
-    static stream_file_t f;
-    static lms_framer_t fr;
-    static uint8_t chunk[STREAM_FILE_CHUNK];
-    const int e = stream_file_open(&f, path);
-    if (e != 0) {
-        cli_file_error("cannot open ", path, strerror(e));
+    static lms_framer_t framer;
+    loading_t loading = {r, 0u};
+    if (stream_frames_run_path(path, &framer, load_telegram, &loading) != CLI_EXIT_OK) {
         return -1;
     }
-    lms_framer_init(&fr, LMS_FROM_SCANNER);
-    uint64_t last_time = 0u;
-    int rc = 0;
-    for (bool end = false; !end && rc == 0;) {
-        size_t got = 0u;
-        const stream_read_t rr = stream_file_read(&f, chunk, sizeof chunk, &got);
-        if (rr == STREAM_READ_ERROR) {
-            cli_file_error("error reading ", path, strerror(f.error));
-            rc = -1;
-            break;
-        }
-        end = rr == STREAM_READ_END;
-        size_t off = 0u;
-        for (size_t guard = 0u; guard <= got + LMS_FRAMER_BUF_SIZE + 1u; guard++) {
-            size_t used = 0u;
-            const lms_framer_event_t ev = end ? lms_framer_flush(&fr)
-                                              : lms_framer_feed(&fr, chunk + off, got - off, &used);
-            off += used;
-            if (ev == LMS_FRAMER_NEED_MORE) {
-                break;
-            }
-            size_t len = 0u;
-            const uint8_t *t = lms_framer_telegram(&fr, &len);
-            if (ev != LMS_FRAMER_TELEGRAM || t == NULL || t[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
-                continue;
-            }
-            static lms_scan_t scan;
-            if (lms_decode_scan(t, len, &scan) != LMS_OK) {
-                continue;
-            }
-            if (r->count == 0u) {
-                r->values = scan.count;
-                r->partial = scan.is_partial;
-            }
-            uint32_t gap = 0u;
-            if (f.is_recording && r->count > 0u) {
-                const uint64_t d = f.time_us - last_time;
-                gap = d > 10000000u ? 10000000u : (uint32_t)d;
-            }
-            last_time = f.time_us;
-            if (recorded_add(r, t, len, gap) != 0) {
-                cli_error("out of memory reading the scans");
-                rc = -1;
-                break;
-            }
-        }
-    }
-    stream_file_close(&f);
-    if (rc == 0 && r->count == 0u) {
+    if (r->count == 0u) {
         cli_file_error("no scans in ", path, "no valid B0 telegram");
-        rc = -1;
+        return -1;
     }
-    return rc;
+    return 0;
 }
 
 static bool recorded_scan(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t resolution_cdeg,

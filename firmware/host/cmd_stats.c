@@ -22,8 +22,9 @@ typedef struct {
     lms_scan_t scan; /* scratch for the decoder */
 } stats_count_t;
 
-static int count_telegram(void *ctx, const uint8_t *telegram, size_t len)
+static int count_telegram(void *ctx, const uint8_t *telegram, size_t len, uint64_t time_us)
 {
+    (void)time_us;
     stats_count_t *count = ctx;
     if (len <= LMS_HEADER_SIZE || telegram[LMS_HEADER_SIZE] != LMS_REPLY_VALUES) {
         return 0;

@@ -10,9 +10,15 @@
  * stop instead of spinning (the tool must terminate on any input). */
 #define STREAM_FRAMES_MAX_IDLE_EVENTS (LMS_FRAMER_BUF_SIZE + 2u)
 
+/* Where telegrams go, and the arrival time of the bytes being fed. */
+typedef struct {
+    stream_telegram_fn fn;
+    void *ctx;
+    uint64_t time_us;
+} sink_t;
+
 /* Passes a telegram event on; 0 = go on. */
-static int report(lms_framer_t *framer, lms_framer_event_t event, stream_telegram_fn on_telegram,
-                  void *ctx)
+static int report(lms_framer_t *framer, lms_framer_event_t event, const sink_t *sink)
 {
     if (event != LMS_FRAMER_TELEGRAM) {
         return 0;
@@ -22,12 +28,12 @@ static int report(lms_framer_t *framer, lms_framer_event_t event, stream_telegra
     if (telegram == NULL || len == 0u) {
         return 0;
     }
-    return on_telegram(ctx, telegram, len);
+    return sink->fn(sink->ctx, telegram, len, sink->time_us);
 }
 
 /* Feeds one chunk completely. */
 static stream_frames_result_t feed_chunk(lms_framer_t *framer, const uint8_t *chunk, size_t len,
-                                         stream_telegram_fn on_telegram, void *ctx)
+                                         const sink_t *sink)
 {
     size_t offset = 0u;
     size_t idle_events = 0u;
@@ -46,22 +52,21 @@ static stream_frames_result_t feed_chunk(lms_framer_t *framer, const uint8_t *ch
         if (idle_events > STREAM_FRAMES_MAX_IDLE_EVENTS) {
             return STREAM_FRAMES_STUCK;
         }
-        if (report(framer, event, on_telegram, ctx) != 0) {
+        if (report(framer, event, sink) != 0) {
             return STREAM_FRAMES_STOPPED;
         }
     }
 }
 
 /* End of input: flush until the framer holds nothing. */
-static stream_frames_result_t flush_all(lms_framer_t *framer, stream_telegram_fn on_telegram,
-                                        void *ctx)
+static stream_frames_result_t flush_all(lms_framer_t *framer, const sink_t *sink)
 {
     for (size_t events = 0u; events <= STREAM_FRAMES_MAX_IDLE_EVENTS; events++) {
         const lms_framer_event_t event = lms_framer_flush(framer);
         if (event == LMS_FRAMER_NEED_MORE) {
             return STREAM_FRAMES_DONE;
         }
-        if (report(framer, event, on_telegram, ctx) != 0) {
+        if (report(framer, event, sink) != 0) {
             return STREAM_FRAMES_STOPPED;
         }
     }
@@ -72,6 +77,7 @@ stream_frames_result_t stream_frames_run(stream_file_t *in, lms_framer_t *framer
                                          stream_telegram_fn on_telegram, void *ctx)
 {
     uint8_t chunk[STREAM_FILE_CHUNK];
+    sink_t sink = {on_telegram, ctx, 0u};
     for (;;) {
         size_t got = 0u;
         const stream_read_t r = stream_file_read(in, chunk, sizeof chunk, &got);
@@ -79,13 +85,22 @@ stream_frames_result_t stream_frames_run(stream_file_t *in, lms_framer_t *framer
             return STREAM_FRAMES_READ_ERROR;
         }
         if (r == STREAM_READ_END) {
-            return flush_all(framer, on_telegram, ctx);
+            return flush_all(framer, &sink);
         }
-        const stream_frames_result_t fed = feed_chunk(framer, chunk, got, on_telegram, ctx);
+        sink.time_us = in->is_recording ? in->time_us : 0u;
+        const stream_frames_result_t fed = feed_chunk(framer, chunk, got, &sink);
         if (fed != STREAM_FRAMES_DONE) {
             return fed;
         }
     }
+}
+
+void stream_frames_read_error(const stream_file_t *in, const char *shown)
+{
+    /* A malformed recording says what and where, anything else errno. */
+    char why[128];
+    cli_file_error((in->bad != NULL) ? "bad recording " : "error reading ", shown,
+                   stream_file_problem(in, why, sizeof why));
 }
 
 int stream_frames_run_path(const char *path, lms_framer_t *framer, stream_telegram_fn on_telegram,
@@ -103,14 +118,11 @@ int stream_frames_run_path(const char *path, lms_framer_t *framer, stream_telegr
     const stream_frames_result_t result = stream_frames_run(&in, framer, on_telegram, ctx);
     stream_file_close(&in);
 
-    char why[96];
     switch (result) {
     case STREAM_FRAMES_DONE:
         return CLI_EXIT_OK;
     case STREAM_FRAMES_READ_ERROR:
-        /* A malformed recording says what and where, anything else errno. */
-        cli_file_error((in.bad != NULL) ? "bad recording " : "error reading ", shown,
-                       stream_file_problem(&in, why, sizeof why));
+        stream_frames_read_error(&in, shown);
         return CLI_EXIT_RUNTIME;
     case STREAM_FRAMES_STUCK:
         cli_file_error("internal error while framing ", shown, "the framer made no progress");

@@ -16,8 +16,11 @@
 #include "stream_file.h"
 
 /* Called for each telegram (STX .. CRC, valid until the callback returns).
- * Return 0 to go on, nonzero to stop reading. */
-typedef int (*stream_telegram_fn)(void *ctx, const uint8_t *telegram, size_t len);
+ * time_us: in a recording, the arrival time of the block that held the
+ * telegram's last byte; 0 in a raw stream. Return 0 to go on, nonzero to
+ * stop reading. */
+typedef int (*stream_telegram_fn)(void *ctx, const uint8_t *telegram, size_t len,
+                                  uint64_t time_us);
 
 typedef enum {
     STREAM_FRAMES_DONE = 0,       /* the whole input was read and flushed */
@@ -38,5 +41,10 @@ stream_frames_result_t stream_frames_run(stream_file_t *in, lms_framer_t *framer
  * be opened or read, or the callback stopped the run. */
 int stream_frames_run_path(const char *path, lms_framer_t *framer, stream_telegram_fn on_telegram,
                            void *ctx);
+
+/* The one-line message for a read of in that failed (STREAM_READ_ERROR):
+ * "bad recording 'FILE': <why, where>" for a malformed recording, else
+ * "error reading 'FILE': <errno text>". shown is the name to print. */
+void stream_frames_read_error(const stream_file_t *in, const char *shown);
 
 #endif /* LMSEGO_STREAM_FRAMES_H */

@@ -31,7 +31,7 @@
  * With UNITY_OUTPUT_CHAR defined the harness uses no stdio at all: that
  * message goes through UNITY_OUTPUT_CHAR too, and floats are formatted by
  * the harness itself instead of snprintf (unity.c, print_float). The
- * Cortex-M test images use this (firmware/target/unit/unity_config.h: UART0).
+ * Cortex-M test images use this (host_tests/target_unit/unity_config.h: UART0).
  *
  * Doubles: define UNITY_INCLUDE_DOUBLE for both unity.c and the test file.
  * Without it TEST_ASSERT_DOUBLE_WITHIN* fails with

@@ -1,4 +1,4 @@
-/* main_fault.c - an image that crashes on purpose (an undefined
+/* probe_fault.c - an image that crashes on purpose (an undefined
  * instruction), to prove that a fault ends the run with its own exit code
  * (target.h: escalated to HardFault, 121) instead of hanging: ctest
  * target_fault_exit. */

@@ -1,4 +1,4 @@
-/* main_heap.c - an image that uses the heap, which must not link
+/* probe_heap.c - an image that uses the heap, which must not link
  * (heap_guard.c): ctest target_heap_guard builds it and expects the link
  * to fail on lmsego_firmware_has_no_heap. Not part of `all`. */
 #include <stdlib.h>
