@@ -1,0 +1,1 @@
+# measure.cmake: included from CMakeLists.txt (cross builds).

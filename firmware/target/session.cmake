@@ -1,0 +1,1 @@
+# session.cmake: included from CMakeLists.txt (cross builds).
