@@ -103,45 +103,75 @@ static void take_sample(const ego_scan_t *cur, fx_bam32_t main_dir, fx_bam32_t t
     take_group(cur, main_dir, tol, 1u, members[1], want[1], s);
 }
 
-static uint64_t score_group(const ego_scan_t *last, const ego_scan_t *cur, const uint16_t *index,
-                            uint16_t count, const ego_pose_t *pose, fx_q2_30_t sn, fx_q2_30_t cs,
-                            fx_q16_16_t sigma)
+/* Score of one group so far: its points' sum and its penalties. */
+typedef struct {
+    uint64_t score;
+    uint64_t penalty;
+} tally_t;
+
+static uint64_t tally_value(const tally_t *t)
 {
-    const uint64_t sigma_sq = (uint64_t)((int64_t)sigma * sigma);
-    uint64_t score = 0u;
-    uint64_t penalty = 0u;
-    for (uint16_t k = 0u; k < count; k++) {
-        const uint16_t i = index[k];
-        fx_q16_16_t qx;
-        fx_q16_16_t qy;
-        ego_pose_apply(pose, sn, cs, cur->x[i], cur->y[i], &qx, &qy);
-        uint64_t d2 = 0u;
-        if (itcp_nearest(last, qx, qy, sigma, &d2) && d2 < sigma_sq) {
-            score += (sigma_sq - d2) >> 16; /* Q16.16 m^2 per point */
-        } else if (itcp_seen_through(last, qx, qy, 2 * sigma)) {
-            penalty += sigma_sq >> 16; /* in space the last scan saw empty */
-        }
-    }
-    return (score > penalty) ? score - penalty : 0u;
+    return (t->score > t->penalty) ? t->score - t->penalty : 0u;
+}
+
+/* The most a group can still reach with `left` points unscored, each
+ * scoring at most sigma^2 and none penalised. */
+static uint64_t tally_bound(const tally_t *t, uint32_t left, uint64_t per_point)
+{
+    const uint64_t top = t->score + left * per_point;
+    return (top > t->penalty) ? top - t->penalty : 0u;
 }
 
 /* Each group's sum weighted by the other group's size: equal total weight
- * per group. Bound: 2 * 128 points * sigma^2 (< 2^32 for sigma < 256 m)
- * * 128 < 2^47. */
+ * per group (one group empty: the plain sum). Bound: 2 * 128 points *
+ * sigma^2 (< 2^32 for sigma < 256 m) * 128 < 2^47. */
+static uint64_t combine(const sample_t *s, uint64_t main_value, uint64_t other_value)
+{
+    if (s->count[0] == 0u || s->count[1] == 0u) {
+        return main_value + other_value;
+    }
+    return main_value * s->count[1] + other_value * s->count[0];
+}
+
+/* The score of pose: per sample point max(0, sigma^2 - d^2) for a surface
+ * at d < sigma, minus sigma^2 where the last scan saw through it; per group
+ * clipped at 0, then combined. A pose that cannot score above must_beat
+ * even if every point left scored fully is abandoned (it returns at most
+ * must_beat): the grids keep only strict improvements, so the result is
+ * the same as scoring every point. */
 static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *s,
-                           const ego_pose_t *pose, fx_q16_16_t sigma)
+                           const ego_pose_t *pose, fx_q16_16_t sigma, uint64_t must_beat)
 {
     fx_q2_30_t sn;
     fx_q2_30_t cs;
     fx_sincos(pose->theta, &sn, &cs);
-    const uint64_t main_score =
-        score_group(last, cur, s->index[0], s->count[0], pose, sn, cs, sigma);
-    const uint64_t other_score =
-        score_group(last, cur, s->index[1], s->count[1], pose, sn, cs, sigma);
-    if (s->count[0] == 0u || s->count[1] == 0u) {
-        return main_score + other_score;
+    const uint64_t sigma_sq = (uint64_t)((int64_t)sigma * sigma);
+    const uint64_t per_point = sigma_sq >> 16; /* Q16.16 m^2 */
+    tally_t t[2] = {{0u, 0u}, {0u, 0u}};
+    for (uint8_t g = 0u; g < 2u; g++) {
+        for (uint16_t k = 0u; k < s->count[g]; k++) {
+            const uint16_t i = s->index[g][k];
+            fx_q16_16_t qx;
+            fx_q16_16_t qy;
+            ego_pose_apply(pose, sn, cs, cur->x[i], cur->y[i], &qx, &qy);
+            uint64_t d2 = 0u;
+            const itcp_probe_t found = itcp_probe(last, qx, qy, sigma, 2 * sigma, &d2);
+            if (found == ITCP_PROBE_SURFACE) {
+                t[g].score += (sigma_sq - d2) >> 16;
+            } else if (found == ITCP_PROBE_SEEN_THROUGH) {
+                t[g].penalty += per_point; /* in space the last scan saw empty */
+            }
+            const uint32_t left = (uint32_t)s->count[g] - k - 1u;
+            const uint64_t bound =
+                (g == 0u) ? combine(s, tally_bound(&t[0], left, per_point),
+                                    tally_bound(&t[1], s->count[1], per_point))
+                          : combine(s, tally_value(&t[0]), tally_bound(&t[1], left, per_point));
+            if (bound <= must_beat) {
+                return bound;
+            }
+        }
     }
-    return main_score * s->count[1] + other_score * s->count[0];
+    return combine(s, tally_value(&t[0]), tally_value(&t[1]));
 }
 
 static int32_t steps_in(fx_q16_16_t half, fx_q16_16_t step)
@@ -163,7 +193,7 @@ static void grid(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *
         for (int32_t iy = -n; iy <= n; iy++) {
             const ego_pose_t p = {around->theta, fx_add_q16(around->x, ix * step),
                                   fx_add_q16(around->y, iy * step)};
-            const uint64_t sc = score_pose(last, cur, s, &p, sigma);
+            const uint64_t sc = score_pose(last, cur, s, &p, sigma, *best_score);
             if (sc > *best_score) {
                 *best_score = sc;
                 *best = p;
@@ -189,7 +219,7 @@ void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t
      * the step, the grid point nearest the truth (up to 0.7 steps away)
      * may score below a wrong pose that happens to fit a few points. */
     const fx_q16_16_t coarse_sigma = (params->step > params->sigma) ? params->step : params->sigma;
-    *score = score_pose(last, current, &s, centre, params->sigma);
+    *score = score_pose(last, current, &s, centre, params->sigma, 0u);
     const int32_t r = params->rotation_steps;
     for (int32_t k = -r; k <= r; k++) {
         /* Coarse grid for this rotation, then the fine pass around its
@@ -199,7 +229,7 @@ void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t
         ego_pose_t around = *centre;
         around.theta += (fx_bam32_t)((uint32_t)k * params->rotation_step);
         ego_pose_t coarse_best = around;
-        uint64_t coarse_score = score_pose(last, current, &s, &around, coarse_sigma);
+        uint64_t coarse_score = score_pose(last, current, &s, &around, coarse_sigma, 0u);
         grid(last, current, &s, &around, params->window, params->step, coarse_sigma, &coarse_best,
              &coarse_score);
         grid(last, current, &s, &coarse_best, params->step, params->fine_step, params->sigma,

@@ -63,26 +63,21 @@ typedef struct {
 } matcher_t;
 
 /* Closest point to (qx, qy) on segment j -> j + 1 of the last scan; its
- * squared distance (Q32.32), the fraction along the segment (Q2.30) and,
- * when the projection falls outside the segment, how far beyond its end
- * (Q16.16 m; 0 inside). */
+ * squared distance (Q32.32) and the fraction along the segment (Q2.30; 0
+ * or 1 when the projection falls outside). */
 static uint64_t closest_on_segment(const ego_scan_t *l, uint16_t j, fx_q16_16_t qx,
                                    fx_q16_16_t qy, fx_q16_16_t *cx, fx_q16_16_t *cy,
-                                   fx_q2_30_t *t_out, int64_t *beyond)
+                                   fx_q2_30_t *t_out)
 {
     const int64_t dx = (int64_t)l->x[j + 1u] - l->x[j];
     const int64_t dy = (int64_t)l->y[j + 1u] - l->y[j];
     int64_t num = ((int64_t)qx - l->x[j]) * dx + ((int64_t)qy - l->y[j]) * dy;
     int64_t den = dx * dx + dy * dy;
     fx_q2_30_t t = 0;
-    *beyond = 0;
     if (num <= 0 || den == 0) {
-        const int64_t length = fx_sqrt_u64((uint64_t)den); /* Q16.16; only when clamped */
-        *beyond = (length > 0) ? -num / length : 0;
+        t = 0;
     } else if (num >= den) {
-        const int64_t length = fx_sqrt_u64((uint64_t)den);
         t = FX_Q2_30_ONE;
-        *beyond = (num - den) / length;
     } else {
         while (den >= ((int64_t)1 << 32)) { /* keep num << 30 in range */
             num >>= 1;
@@ -96,6 +91,22 @@ static uint64_t closest_on_segment(const ego_scan_t *l, uint16_t j, fx_q16_16_t 
     const int64_t ex = (int64_t)qx - *cx;
     const int64_t ey = (int64_t)qy - *cy;
     return (uint64_t)(ex * ex + ey * ey);
+}
+
+/* How far (Q16.16 m) the projection of (qx, qy) falls beyond the end of
+ * segment j -> j + 1 where it was clamped (t 0 or 1). */
+static int64_t beyond_end(const ego_scan_t *l, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy,
+                          fx_q2_30_t t)
+{
+    const int64_t dx = (int64_t)l->x[j + 1u] - l->x[j];
+    const int64_t dy = (int64_t)l->y[j + 1u] - l->y[j];
+    const int64_t num = ((int64_t)qx - l->x[j]) * dx + ((int64_t)qy - l->y[j]) * dy;
+    const int64_t den = dx * dx + dy * dy;
+    const int64_t length = fx_sqrt_u64((uint64_t)den);
+    if (t == 0) {
+        return (length > 0) ? -num / length : 0;
+    }
+    return (num - den) / length;
 }
 
 static uint64_t range_sq(const ego_scan_t *l, uint16_t j)
@@ -140,9 +151,24 @@ typedef struct {
     fx_q16_16_t y;
 } match_t;
 
+/* Is (qx, qy) farther than limit (per axis, so this is cheap) from the
+ * box spanned by points a and b: then the closest point of the segment
+ * between them (which lies in the box, rounding included) is too. */
+static bool outside_box(const ego_scan_t *l, uint16_t a, uint16_t b, fx_q16_16_t qx,
+                        fx_q16_16_t qy, int64_t limit)
+{
+    const fx_q16_16_t x0 = (l->x[a] < l->x[b]) ? l->x[a] : l->x[b];
+    const fx_q16_16_t x1 = (l->x[a] < l->x[b]) ? l->x[b] : l->x[a];
+    const fx_q16_16_t y0 = (l->y[a] < l->y[b]) ? l->y[a] : l->y[b];
+    const fx_q16_16_t y1 = (l->y[a] < l->y[b]) ? l->y[b] : l->y[a];
+    return (int64_t)x0 - qx > limit || (int64_t)qx - x1 > limit || (int64_t)y0 - qy > limit ||
+           (int64_t)qy - y1 > limit;
+}
+
 /* Considers point j of the last scan and, if it is a surface, its segment
  * to j + 1, for the current point moved to (qx, qy) with turned tangent
- * tc (or no tangent). */
+ * tc (or no tangent). Cheapest tests first: the box test skips most
+ * candidates of the walk before any product or division. */
 static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy,
                      bool has_tc, fx_bam32_t tc, uint64_t radius_sq, match_t *best)
 {
@@ -153,19 +179,25 @@ static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t
     uint16_t near_point = j;
     bool segment = false;
     if (j + 1u < l->count && (l->flags[j] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) == 0u) {
+        if (outside_box(l, j, (uint16_t)(j + 1u), qx, qy, m->radius)) {
+            return; /* farther than the radius on one axis */
+        }
         fx_q2_30_t t;
-        int64_t beyond;
-        d2 = closest_on_segment(l, j, qx, qy, &cx, &cy, &t, &beyond);
+        d2 = closest_on_segment(l, j, qx, qy, &cx, &cy, &t);
+        if (d2 > radius_sq || (best->found && d2 >= best->dist_sq)) {
+            return;
+        }
         /* Clamped at an end where the scanner merely stops seeing the
          * surface (range limit, field of view, behind a nearer object):
          * the surface may well go on, so the end point is no evidence.
          * Without this, the ends of the visible walls, which move with the
          * scanner, pull every registration in a corridor towards no motion. */
-        if (beyond > END_TOLERANCE &&
-            ((t == 0 && !linked_before(l, j) && end_is_artificial(l, j, (int32_t)j - 1)) ||
-             (t == FX_Q2_30_ONE && !linked_after(l, (uint16_t)(j + 1u)) &&
-              end_is_artificial(l, (uint16_t)(j + 1u), (int32_t)j + 2)))) {
-            return;
+        if ((t == 0 && !linked_before(l, j) && end_is_artificial(l, j, (int32_t)j - 1)) ||
+            (t == FX_Q2_30_ONE && !linked_after(l, (uint16_t)(j + 1u)) &&
+             end_is_artificial(l, (uint16_t)(j + 1u), (int32_t)j + 2))) {
+            if (beyond_end(l, j, qx, qy, t) > END_TOLERANCE) {
+                return;
+            }
         }
         near_point = (t > FX_Q2_30_ONE / 2) ? (uint16_t)(j + 1u) : j;
         segment = true;
@@ -179,12 +211,15 @@ static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t
             (j > 0u && (l->flags[j - 1u] & EGO_LINK_OCCLUSION) != 0u)) {
             return;
         }
+        if (outside_box(l, j, j, qx, qy, m->radius)) {
+            return;
+        }
         const int64_t ex = (int64_t)qx - cx;
         const int64_t ey = (int64_t)qy - cy;
         d2 = (uint64_t)(ex * ex + ey * ey);
-    }
-    if (d2 > radius_sq || (best->found && d2 >= best->dist_sq)) {
-        return;
+        if (d2 > radius_sq || (best->found && d2 >= best->dist_sq)) {
+            return;
+        }
     }
     if (m->params->tangent_gate && has_tc) {
         fx_bam32_t tl;
@@ -221,18 +256,35 @@ static uint16_t lower_bound(const matcher_t *m, int64_t rel)
     return lo;
 }
 
-static match_t find_match(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, bool has_tc,
-                          fx_bam32_t tc)
+/* A current point moved into the last scan's frame, located in its scan
+ * order once for every test on it. */
+typedef struct {
+    fx_q16_16_t x;
+    fx_q16_16_t y;
+    int64_t ox;    /* from the last scanner */
+    int64_t oy;
+    int64_t rel;   /* bearing from the last scanner, relative to m->ref */
+    uint16_t j0;   /* first last-scan point with a bearing >= rel */
+} query_t;
+
+static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, query_t *q)
+{
+    q->x = qx;
+    q->y = qy;
+    q->ox = (int64_t)qx - m->last->origin_x;
+    q->oy = (int64_t)qy - m->last->origin_y;
+    q->rel = fx_bam32_diff(fx_atan2(q->oy, q->ox), m->ref);
+    q->j0 = lower_bound(m, q->rel);
+}
+
+static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_bam32_t tc)
 {
     const ego_scan_t *l = m->last;
     match_t best = {false, 0u, 0, 0};
-    const int64_t ox = (int64_t)qx - l->origin_x;
-    const int64_t oy = (int64_t)qy - l->origin_y;
-    const int64_t rel_q = fx_bam32_diff(fx_atan2(oy, ox), m->ref);
     /* A lower bound of the distance from the scanner (no square root): a
      * smaller r only widens the cone, which stays safe. */
-    const int64_t ax = (ox < 0) ? -ox : ox;
-    const int64_t ay = (oy < 0) ? -oy : oy;
+    const int64_t ax = (q->ox < 0) ? -q->ox : q->ox;
+    const int64_t ay = (q->oy < 0) ? -q->oy : q->oy;
     const int64_t r_q = (ax > ay) ? ax : ay;
     /* Half-angle of the cone the search disc subtends: asin(radius / r)
      * <= (pi / 2) (radius / r), i.e. (radius / r) quarter turns. */
@@ -241,25 +293,23 @@ static match_t find_match(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, bo
         cone = ((int64_t)m->radius << 30) / r_q;
     }
     const uint64_t radius_sq = (uint64_t)((int64_t)m->radius * m->radius);
-    const uint16_t j0 = lower_bound(m, rel_q);
 
-    for (uint16_t j = j0, k = 0u; j < l->count && k < ITCP_MAX_WALK; j++, k++) {
-        if ((int64_t)fx_bam32_diff(l->bearing[j], m->ref) > rel_q + cone) {
+    for (uint16_t j = q->j0, k = 0u; j < l->count && k < ITCP_MAX_WALK; j++, k++) {
+        if ((int64_t)fx_bam32_diff(l->bearing[j], m->ref) > q->rel + cone) {
             break;
         }
-        consider(m, j, qx, qy, has_tc, tc, radius_sq, &best);
+        consider(m, j, q->x, q->y, has_tc, tc, radius_sq, &best);
     }
-    for (uint16_t j = j0, k = 0u; j > 0u && k < ITCP_MAX_WALK; k++) {
+    for (uint16_t j = q->j0, k = 0u; j > 0u && k < ITCP_MAX_WALK; k++) {
         j--;
-        if ((int64_t)fx_bam32_diff(l->bearing[j + 1u], m->ref) < rel_q - cone) {
+        if ((int64_t)fx_bam32_diff(l->bearing[j + 1u], m->ref) < q->rel - cone) {
             break;
         }
-        consider(m, j, qx, qy, has_tc, tc, radius_sq, &best);
+        consider(m, j, q->x, q->y, has_tc, tc, radius_sq, &best);
     }
     return best;
 }
 
-/* Matches every current point at pose; fills the group sums. */
 /* The middle bearing of a scan: the reference its bearings are compared
  * to, so that they never wrap. */
 static fx_bam32_t middle_bearing(const ego_scan_t *l)
@@ -267,23 +317,86 @@ static fx_bam32_t middle_bearing(const ego_scan_t *l)
     return l->bearing[0] + (l->bearing[l->count - 1u] - l->bearing[0]) / 2u;
 }
 
-bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
-                  uint64_t *dist_sq)
+/* Did the last scan see through q: do its beams on both sides of that
+ * bearing, neighbours with no missing value between them, both reach more
+ * than `margin` beyond it? A current point there lies in space the last
+ * scan saw empty, so the pose that put it there is wrong (or the point
+ * moved). */
+static bool seen_through(const matcher_t *m, const query_t *q, fx_q16_16_t margin)
+{
+    const ego_scan_t *l = m->last;
+    const uint16_t j = q->j0;
+    if (j == 0u || j >= l->count || (l->flags[j - 1u] & EGO_LINK_GAP) != 0u) {
+        return false;
+    }
+    /* r = |o| + margin with |o| rounded down; r^2 > |o|^2 for margin >= 1,
+     * so a beam no longer than |o| settles it without the square root. */
+    const uint64_t o_sq = (uint64_t)(q->ox * q->ox + q->oy * q->oy);
+    const uint64_t before = range_sq(l, (uint16_t)(j - 1u));
+    const uint64_t after = range_sq(l, j);
+    if (margin >= 1 && (before <= o_sq || after <= o_sq)) {
+        return false;
+    }
+    const int64_t r = (int64_t)fx_sqrt_u64(o_sq) + margin;
+    const uint64_t r_sq = (uint64_t)(r * r);
+    return before > r_sq && after > r_sq;
+}
+
+static void init_matcher(matcher_t *m, const ego_scan_t *last, fx_q16_16_t radius)
 {
     /* Only the gate switch is read by the search: everything else zero. */
     static const itcp_params_t no_gate;
+    memset(m, 0, sizeof *m);
+    m->last = last;
+    m->params = &no_gate;
+    m->ref = middle_bearing(last);
+    m->radius = radius;
+}
+
+bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
+                  uint64_t *dist_sq)
+{
     if (last == NULL || dist_sq == NULL || last->count == 0u) {
         return false;
     }
     matcher_t m;
-    m.last = last;
-    m.params = &no_gate;
-    m.ref = middle_bearing(last);
-    m.main_direction = 0u;
-    m.radius = radius;
-    const match_t best = find_match(&m, qx, qy, false, 0u);
+    init_matcher(&m, last, radius);
+    query_t q;
+    locate(&m, qx, qy, &q);
+    const match_t best = find_match(&m, &q, false, 0u);
     *dist_sq = best.dist_sq;
     return best.found;
+}
+
+bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
+                       fx_q16_16_t margin)
+{
+    if (last == NULL || last->count == 0u) {
+        return false;
+    }
+    matcher_t m;
+    init_matcher(&m, last, 0);
+    query_t q;
+    locate(&m, qx, qy, &q);
+    return seen_through(&m, &q, margin);
+}
+
+itcp_probe_t itcp_probe(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
+                        fx_q16_16_t radius, fx_q16_16_t margin, uint64_t *dist_sq)
+{
+    if (last == NULL || dist_sq == NULL || last->count == 0u) {
+        return ITCP_PROBE_NOTHING;
+    }
+    matcher_t m;
+    init_matcher(&m, last, radius);
+    query_t q;
+    locate(&m, qx, qy, &q);
+    const match_t best = find_match(&m, &q, false, 0u);
+    *dist_sq = best.dist_sq;
+    if (best.found && best.dist_sq < (uint64_t)((int64_t)radius * radius)) {
+        return ITCP_PROBE_SURFACE;
+    }
+    return seen_through(&m, &q, margin) ? ITCP_PROBE_SEEN_THROUGH : ITCP_PROBE_NOTHING;
 }
 
 void itcp_sums_clear(itcp_sums_t *sums)
@@ -295,38 +408,6 @@ void itcp_sums_add(itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y
                    fx_q16_16_t v)
 {
     sums_add(&sums->group[on_main ? 0 : 1], x, y, u, v);
-}
-
-/* Did the last scan see through (qx, qy): do its beams on both sides of
- * that bearing, neighbours with no missing value between them, both reach
- * more than `margin` beyond it? A current point there lies in space the
- * last scan saw empty, so the pose that put it there is wrong (or the
- * point moved). */
-static bool seen_through(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t margin)
-{
-    const ego_scan_t *l = m->last;
-    const int64_t ox = (int64_t)qx - l->origin_x;
-    const int64_t oy = (int64_t)qy - l->origin_y;
-    const uint16_t j = lower_bound(m, fx_bam32_diff(fx_atan2(oy, ox), m->ref));
-    if (j == 0u || j >= l->count || (l->flags[j - 1u] & EGO_LINK_GAP) != 0u) {
-        return false;
-    }
-    const int64_t r = (int64_t)fx_sqrt_u64((uint64_t)(ox * ox + oy * oy)) + margin;
-    const uint64_t r_sq = (uint64_t)(r * r);
-    return range_sq(l, (uint16_t)(j - 1u)) > r_sq && range_sq(l, j) > r_sq;
-}
-
-bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
-                       fx_q16_16_t margin)
-{
-    if (last == NULL || last->count == 0u) {
-        return false;
-    }
-    matcher_t m;
-    memset(&m, 0, sizeof m);
-    m.last = last;
-    m.ref = middle_bearing(last);
-    return seen_through(&m, qx, qy, margin);
 }
 
 /* with_free_space: also count the points the last scan saw through
@@ -350,10 +431,12 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
             has_tc && fx_line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
         const unsigned g = on_main ? 0u : 1u;
         pass->group_points[g]++;
-        if (with_free_space && seen_through(m, qx, qy, 2 * m->params->inlier_distance)) {
+        query_t q;
+        locate(m, qx, qy, &q);
+        if (with_free_space && seen_through(m, &q, 2 * m->params->inlier_distance)) {
             pass->group_seen_through[g]++;
         }
-        const match_t best = find_match(m, qx, qy, has_tc, tc);
+        const match_t best = find_match(m, &q, has_tc, tc);
         if (!best.found) {
             continue;
         }

@@ -210,6 +210,128 @@ static void test_itcp_fails_cleanly_without_points(void)
     TEST_ASSERT_EQUAL_INT(ITCP_ERR_ARG, itcp_register(NULL, &g_current, 0u, &far, false, &p, &r));
 }
 
+/* Distance in double from (qx, qy) to the nearest segment of two linked
+ * points of scan (brute force over the whole scan); *at_end: the nearest
+ * point is an end of a surface (where ITCP's rules for artificial ends
+ * apply, which this oracle leaves out). */
+static double brute_force_nearest(const ego_scan_t *scan, double qx, double qy, bool *at_end)
+{
+    double best = 1e9;
+    *at_end = false;
+    for (uint16_t j = 0u; j + 1u < scan->count; j++) {
+        if ((scan->flags[j] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) != 0u) {
+            continue;
+        }
+        const double ax = fx_q16_16_to_double(scan->x[j]);
+        const double ay = fx_q16_16_to_double(scan->y[j]);
+        const double dx = fx_q16_16_to_double(scan->x[j + 1u]) - ax;
+        const double dy = fx_q16_16_to_double(scan->y[j + 1u]) - ay;
+        const double t = ((qx - ax) * dx + (qy - ay) * dy) / (dx * dx + dy * dy);
+        const double tc = (t < 0.0) ? 0.0 : (t > 1.0) ? 1.0 : t;
+        const double d = hypot(qx - ax - tc * dx, qy - ay - tc * dy);
+        if (d < best) {
+            best = d;
+            const bool end_before = j == 0u || !ego_scan_linked(scan, (uint16_t)(j - 1u));
+            const bool end_after = j + 2u >= scan->count || !ego_scan_linked(scan, (uint16_t)(j + 1u));
+            *at_end = (t <= 0.0 && end_before) || (t >= 1.0 && end_after);
+        }
+    }
+    return best;
+}
+
+/* The scan-order search finds the nearest surface that a search over every
+ * segment finds, for points near the middle of the room's surfaces. */
+static void test_itcp_nearest_matches_brute_force(void)
+{
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
+    uint32_t rng = 7u;
+    double worst = 0.0;
+    unsigned checked = 0u;
+    for (unsigned trial = 0u; trial < 2000u; trial++) {
+        const uint16_t j = (uint16_t)tu_rand_range(&rng, 20u, (uint32_t)g_last.count - 22u);
+        if ((g_last.flags[j] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) != 0u) {
+            continue;
+        }
+        /* A point up to 0.15 m off the segment's middle part. */
+        const double t = 0.2 + 0.6 * (double)tu_rand(&rng) / 4294967296.0;
+        const double off_x = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 0.3;
+        const double off_y = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 0.3;
+        const double ax = fx_q16_16_to_double(g_last.x[j]);
+        const double ay = fx_q16_16_to_double(g_last.y[j]);
+        const double qx = ax + t * (fx_q16_16_to_double(g_last.x[j + 1u]) - ax) + off_x;
+        const double qy = ay + t * (fx_q16_16_to_double(g_last.y[j + 1u]) - ay) + off_y;
+        bool at_end = false;
+        const double truth = brute_force_nearest(&g_last, qx, qy, &at_end);
+        if (at_end) {
+            continue;
+        }
+        uint64_t d2 = 0u;
+        TEST_ASSERT_TRUE(itcp_nearest(&g_last, fx_q16_16_from_double(qx),
+                                      fx_q16_16_from_double(qy), FX_Q16_16_C(0.6), &d2));
+        const double d = sqrt((double)d2) / 65536.0;
+        const double error = fabs(d - truth);
+        worst = (error > worst) ? error : worst;
+        checked++;
+    }
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "%u points, worst distance error %.2e m", checked, worst);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(checked > 1000u, msg);
+    TEST_ASSERT_TRUE_MESSAGE(worst < 5e-5, msg);
+    /* Nothing within the radius: false. */
+    uint64_t d2 = 0u;
+    TEST_ASSERT_FALSE(itcp_nearest(&g_last, FX_Q16_16_C(1.0), FX_Q16_16_C(0.5), FX_Q16_16_C(0.3),
+                                   &d2));
+}
+
+/* Free space: in front of the last scan's walls yes, behind them no. */
+static void test_itcp_seen_through_is_free_space(void)
+{
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
+    const fx_q16_16_t margin = FX_Q16_16_C(0.2);
+    TEST_ASSERT_TRUE(itcp_seen_through(&g_last, FX_Q16_16_C(1.0), FX_Q16_16_C(0.5), margin));
+    TEST_ASSERT_TRUE(itcp_seen_through(&g_last, FX_Q16_16_C(5.0), FX_Q16_16_C(0.5), margin));
+    /* Within the margin of the far wall (x = 10), and behind it. */
+    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(9.9), FX_Q16_16_C(0.5), margin));
+    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(10.5), FX_Q16_16_C(0.5), margin));
+    /* Behind the angled wall from (7, 4) to (9, 2.5). */
+    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(9.5), FX_Q16_16_C(3.0), margin));
+    /* Behind the box at x 2.0-2.6, y -1.0..-0.4. */
+    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(3.5), FX_Q16_16_C(-1.0), margin));
+}
+
+/* The coarse search's combined query gives what the two queries give. */
+static void test_itcp_probe_is_nearest_then_free_space(void)
+{
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
+    uint32_t rng = 11u;
+    unsigned seen[3] = {0u, 0u, 0u};
+    const fx_q16_16_t radius = FX_Q16_16_C(0.1);
+    const fx_q16_16_t margin = FX_Q16_16_C(0.2);
+    for (unsigned trial = 0u; trial < 3000u; trial++) {
+        const fx_q16_16_t qx = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (1 << 16);
+        const fx_q16_16_t qy = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
+        uint64_t d_probe = 0u;
+        uint64_t d_nearest = 0u;
+        const itcp_probe_t p = itcp_probe(&g_last, qx, qy, radius, margin, &d_probe);
+        const bool near = itcp_nearest(&g_last, qx, qy, radius, &d_nearest) &&
+                          d_nearest < (uint64_t)((int64_t)radius * radius);
+        const itcp_probe_t expected =
+            near ? ITCP_PROBE_SURFACE
+                 : (itcp_seen_through(&g_last, qx, qy, margin) ? ITCP_PROBE_SEEN_THROUGH
+                                                               : ITCP_PROBE_NOTHING);
+        TEST_ASSERT_EQUAL_INT(expected, p);
+        if (near) {
+            TEST_ASSERT_TRUE(d_nearest == d_probe);
+        }
+        seen[p]++;
+    }
+    /* Every outcome occurred. */
+    TEST_ASSERT_TRUE(seen[ITCP_PROBE_NOTHING] > 0u);
+    TEST_ASSERT_TRUE(seen[ITCP_PROBE_SURFACE] > 0u);
+    TEST_ASSERT_TRUE(seen[ITCP_PROBE_SEEN_THROUGH] > 0u);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -218,5 +340,8 @@ int main(void)
     RUN_TEST(test_itcp_hold_rotation_keeps_theta);
     RUN_TEST(test_itcp_flags_the_corridor_aperture);
     RUN_TEST(test_itcp_fails_cleanly_without_points);
+    RUN_TEST(test_itcp_nearest_matches_brute_force);
+    RUN_TEST(test_itcp_seen_through_is_free_space);
+    RUN_TEST(test_itcp_probe_is_nearest_then_free_space);
     return UNITY_END();
 }
