@@ -249,15 +249,70 @@ static uint64_t dot_run(const uint32_t *a, unsigned sa, const uint32_t *b, unsig
     return dot;
 }
 
+/* The runs of bins of a scaled histogram that are not zero: a tangent
+ * histogram has most of its bins empty, and every shift's dot product
+ * needs only these. Too many runs: `dense`, use every bin. */
+#define HIST_MAX_RUNS 16u /* seen: at most 4 on every stream */
+
+typedef struct {
+    uint16_t start;
+    uint16_t length;
+} run_t;
+
+typedef struct {
+    bool dense;
+    uint8_t count;
+    run_t run[HIST_MAX_RUNS];
+} runs_t;
+
+static void find_runs(const scaled_t *a, runs_t *r)
+{
+    r->dense = false;
+    r->count = 0u;
+    uint16_t b = 0u;
+    while (b < HIST_BINS) { /* each bin is passed once */
+        if ((a->bin[b] >> a->shift) == 0u) {
+            b++;
+            continue;
+        }
+        if (r->count == HIST_MAX_RUNS) {
+            r->dense = true;
+            return;
+        }
+        const uint16_t start = b;
+        while (b < HIST_BINS && (a->bin[b] >> a->shift) != 0u) {
+            b++;
+        }
+        r->run[r->count].start = start;
+        r->run[r->count].length = (uint16_t)(b - start);
+        r->count++;
+    }
+}
+
 /* M sum_i s[i] t[i + shift] - S T (indices modulo M): the centred dot
- * product over M, as two straight runs. */
-static int64_t dot_shifted(const scaled_t *a, const scaled_t *b, int32_t shift)
+ * product over M, over a's runs (the zero bins add nothing), each as at
+ * most two straight pieces; runs NULL: over every bin. */
+static int64_t dot_shifted(const scaled_t *a, const runs_t *runs, const scaled_t *b,
+                           int32_t shift)
 {
     const uint32_t k =
         (uint32_t)((shift % (int32_t)HIST_BINS + (int32_t)HIST_BINS) % (int32_t)HIST_BINS);
-    const uint32_t first = HIST_BINS - k; /* i = 0 .. first - 1 meet b[k .. M - 1] */
-    const uint64_t dot = dot_run(a->bin, a->shift, &b->bin[k], b->shift, first) +
-                         dot_run(&a->bin[first], a->shift, b->bin, b->shift, k);
+    uint64_t dot = 0u;
+    if (runs == NULL || runs->dense) {
+        const uint32_t first = HIST_BINS - k; /* i = 0 .. first - 1 meet b[k .. M - 1] */
+        dot = dot_run(a->bin, a->shift, &b->bin[k], b->shift, first) +
+              dot_run(&a->bin[first], a->shift, b->bin, b->shift, k);
+    } else {
+        for (uint8_t r = 0u; r < runs->count; r++) {
+            const uint32_t start = runs->run[r].start;
+            const uint32_t length = runs->run[r].length;
+            const uint32_t at = (start + k) % HIST_BINS; /* b's index of a[start] */
+            const uint32_t straight = (HIST_BINS - at < length) ? HIST_BINS - at : length;
+            dot += dot_run(&a->bin[start], a->shift, &b->bin[at], b->shift, straight);
+            dot += dot_run(&a->bin[start + straight], a->shift, b->bin, b->shift,
+                           length - straight);
+        }
+    }
     return (int64_t)HIST_BINS * (int64_t)dot - a->sum * b->sum;
 }
 
@@ -331,8 +386,10 @@ void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre
     memset(match, 0, sizeof *match);
     const scaled_t a = scale(current);
     const scaled_t b = scale(last);
-    const int64_t na = dot_shifted(&a, &a, 0);
-    const int64_t nb = dot_shifted(&b, &b, 0);
+    runs_t a_runs;
+    find_runs(&a, &a_runs);
+    const int64_t na = dot_shifted(&a, &a_runs, &a, 0);
+    const int64_t nb = dot_shifted(&b, NULL, &b, 0);
     if (na == 0 || nb == 0) {
         return; /* a flat histogram has no direction */
     }
@@ -347,10 +404,10 @@ void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre
 
     peak_t peaks[PEAKS_MAX];
     uint8_t npeaks = 0u;
-    int64_t before = dot_shifted(&a, &b, mid - limit - 1);
-    int64_t here = dot_shifted(&a, &b, mid - limit);
+    int64_t before = dot_shifted(&a, &a_runs, &b, mid - limit - 1);
+    int64_t here = dot_shifted(&a, &a_runs, &b, mid - limit);
     for (int32_t j = mid - limit; j <= mid + limit; j++) {
-        const int64_t after = dot_shifted(&a, &b, j + 1);
+        const int64_t after = dot_shifted(&a, &a_runs, &b, j + 1);
         if (here > before && here >= after) {
             const peak_t p = {j, here, before, after};
             keep_peak(peaks, &npeaks, &p);

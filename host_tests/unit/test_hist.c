@@ -255,6 +255,62 @@ static void test_hist_correlation_around_a_centre(void)
     }
 }
 
+/* A small deterministic generator: lo + (0 .. span). */
+static unsigned next_in(uint32_t *state, unsigned lo, unsigned span)
+{
+    *state ^= *state << 13;
+    *state ^= *state >> 17;
+    *state ^= *state << 5;
+    return lo + *state % (span + 1u);
+}
+
+/* Sparse histograms (a few runs of filled bins, one across the wrap from
+ * the last bin to the first) and dense ones (more runs than the sparse
+ * path keeps): every candidate's correlation equals eq. 5 in doubles, and
+ * the best is the shift. */
+static void test_hist_correlation_of_sparse_and_dense_histograms(void)
+{
+    uint32_t rng = 5u;
+    for (unsigned runs = 1u; runs <= 40u; runs++) {
+        memset(&g_hl, 0, sizeof g_hl);
+        memset(&g_hc, 0, sizeof g_hc);
+        for (unsigned r = 0u; r < runs; r++) {
+            const unsigned start =
+                (r == 0u) ? HIST_BINS - 2u : next_in(&rng, 0u, HIST_BINS - 1u);
+            const unsigned length = next_in(&rng, 1u, 4u);
+            for (unsigned k = 0u; k < length; k++) {
+                g_hl.bin[(start + k) % HIST_BINS] = next_in(&rng, 1u, 5000u);
+            }
+        }
+        const int shift = (int)next_in(&rng, 0u, 400u) - 200;
+        for (unsigned b = 0u; b < HIST_BINS; b++) {
+            g_hc.bin[b] = g_hl.bin[(unsigned)((int)b + shift + (int)HIST_BINS) % HIST_BINS];
+        }
+        hist_match_t m;
+        hist_correlate(&g_hc, &g_hl, 0u, 225u, 5u, &m);
+        TEST_ASSERT_TRUE(m.count >= 1u);
+        const double first_bins = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u)) *
+                                  HIST_BINS / 180.0;
+        char msg[96];
+        (void)snprintf(msg, sizeof msg, "runs %u shift %d got %.2f bins", runs, shift, first_bins);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(first_bins - shift) < 0.5, msg);
+        for (uint8_t k = 0u; k < m.count; k++) {
+            const double bins = deg_of_bam(fx_bam32_diff(m.candidate[k].rotation, 0u)) *
+                                HIST_BINS / 180.0;
+            const int j = (int)lround(bins);
+            double best = -2.0;
+            for (int i = j - 1; i <= j + 1; i++) {
+                const double r = ref_correlation(&g_hc, &g_hl, i);
+                best = (r > best) ? r : best;
+            }
+            const double c = (double)m.candidate[k].correlation / 1073741824.0;
+            (void)snprintf(msg, sizeof msg, "runs %u candidate %u: %.6f, double %.6f", runs,
+                           (unsigned)k, c, best);
+            TEST_ASSERT_TRUE_MESSAGE(fabs(c - best) < 1e-4, msg);
+        }
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -265,5 +321,6 @@ int main(void)
     RUN_TEST(test_hist_flat_histogram_gives_no_candidate);
     RUN_TEST(test_hist_correlation_of_a_shifted_copy);
     RUN_TEST(test_hist_correlation_around_a_centre);
+    RUN_TEST(test_hist_correlation_of_sparse_and_dense_histograms);
     return UNITY_END();
 }
