@@ -24,7 +24,11 @@ else()
     message(FATAL_ERROR "LMSEGO_CPU must be cortex-m3 or cortex-m4f, not '${LMSEGO_CPU}'")
 endif()
 
-set(CMAKE_C_FLAGS_INIT "${LMSEGO_CPU_FLAGS} -ffunction-sections -fdata-sections -fstack-usage")
+# -fstack-usage writes each object's frames (.su); -fcallgraph-info=su writes
+# its call graph with those frames (.ci, VCG text) for the worst-case stack
+# through the call graph (firmware/target/stack_graph.py).
+set(CMAKE_C_FLAGS_INIT
+    "${LMSEGO_CPU_FLAGS} -ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su")
 # Our own startup code (no crt0), newlib-nano without system calls; the
 # firmware uses no stdio, so nothing of newlib's heap is linked (the heap
 # guard in firmware/target/heap_guard.c makes sure).
