@@ -54,10 +54,19 @@ typedef uint32_t fx_bam32_t;
 // cppcheck-suppress shiftNegativeLHS ; the point of the check
 _Static_assert((-3 >> 1) == -2, "arithmetic right shift required");
 
+/* The helpers below are a few instructions each and sit in the inner
+ * loops: inline them at every optimisation level (at -Os gcc otherwise
+ * calls them, which costs more than their bodies). */
+#if defined(__GNUC__)
+#define FX_INLINE static inline __attribute__((always_inline))
+#else
+#define FX_INLINE static inline
+#endif
+
 /* Arithmetic right shift by s (1..62), rounding to nearest with ties away
  * from zero. Computed on the magnitude in unsigned arithmetic, so it is
  * defined for every int64 input, INT64_MIN included. */
-static inline int64_t fx_shr_round_s64(int64_t v, unsigned s)
+FX_INLINE int64_t fx_shr_round_s64(int64_t v, unsigned s)
 {
     const uint64_t half = (uint64_t)1 << (s - 1u);
     if (v >= 0) {
@@ -68,7 +77,7 @@ static inline int64_t fx_shr_round_s64(int64_t v, unsigned s)
 }
 
 /* Saturates a 64-bit value to int32. */
-static inline int32_t fx_sat_s32(int64_t v)
+FX_INLINE int32_t fx_sat_s32(int64_t v)
 {
     if (v > INT32_MAX) {
         return INT32_MAX;
@@ -81,24 +90,24 @@ static inline int32_t fx_sat_s32(int64_t v)
 
 /* Q16.16 x Q2.30 -> Q16.16 (e.g. a coordinate times a cosine); rounded,
  * saturated. */
-static inline fx_q16_16_t fx_mul_q16_q30(fx_q16_16_t a, fx_q2_30_t b)
+FX_INLINE fx_q16_16_t fx_mul_q16_q30(fx_q16_16_t a, fx_q2_30_t b)
 {
     return fx_sat_s32(fx_shr_round_s64((int64_t)a * b, 30u));
 }
 
 /* Q16.16 x Q16.16 -> Q16.16; rounded, saturated. */
-static inline fx_q16_16_t fx_mul_q16(fx_q16_16_t a, fx_q16_16_t b)
+FX_INLINE fx_q16_16_t fx_mul_q16(fx_q16_16_t a, fx_q16_16_t b)
 {
     return fx_sat_s32(fx_shr_round_s64((int64_t)a * b, 16u));
 }
 
 /* Saturating Q16.16 addition and subtraction. */
-static inline fx_q16_16_t fx_add_q16(fx_q16_16_t a, fx_q16_16_t b)
+FX_INLINE fx_q16_16_t fx_add_q16(fx_q16_16_t a, fx_q16_16_t b)
 {
     return fx_sat_s32((int64_t)a + b);
 }
 
-static inline fx_q16_16_t fx_sub_q16(fx_q16_16_t a, fx_q16_16_t b)
+FX_INLINE fx_q16_16_t fx_sub_q16(fx_q16_16_t a, fx_q16_16_t b)
 {
     return fx_sat_s32((int64_t)a - b);
 }
@@ -106,7 +115,7 @@ static inline fx_q16_16_t fx_sub_q16(fx_q16_16_t a, fx_q16_16_t b)
 /* Signed difference a - b of two binary angles, in [-half, half) turn, as
  * a signed binary angle (2^31 = 180 deg). Defined for every input (no
  * implementation-defined unsigned -> signed conversion). */
-static inline int32_t fx_bam32_diff(fx_bam32_t a, fx_bam32_t b)
+FX_INLINE int32_t fx_bam32_diff(fx_bam32_t a, fx_bam32_t b)
 {
     const uint32_t d = a - b;
     if (d <= (uint32_t)INT32_MAX) {
@@ -117,7 +126,7 @@ static inline int32_t fx_bam32_diff(fx_bam32_t a, fx_bam32_t b)
 
 /* Distance between two line directions (modulo 180 deg), as a binary
  * angle in [0, 90 deg]. */
-static inline fx_bam32_t fx_line_angle_diff(fx_bam32_t a, fx_bam32_t b)
+FX_INLINE fx_bam32_t fx_line_angle_diff(fx_bam32_t a, fx_bam32_t b)
 {
     const uint32_t d = (a - b) & (FX_BAM32_HALF - 1u);
     return (d > FX_BAM32_QUARTER) ? FX_BAM32_HALF - d : d;

@@ -69,28 +69,35 @@ static bool has_full_window(const ego_scan_t *scan, uint16_t i, uint8_t n)
     return true;
 }
 
-/* Eq. 7 for the line through P[i] along the centre of bin b. */
+/* Distance of P[j] from the line through P[i] with direction (c, s):
+ * (y_j - y_i) c - (x_j - x_i) s. */
+static fx_q16_16_t line_offset(const ego_scan_t *scan, uint16_t i, uint16_t j, fx_q2_30_t s,
+                               fx_q2_30_t c)
+{
+    const fx_q16_16_t rx = fx_sub_q16(scan->x[j], scan->x[i]);
+    const fx_q16_16_t ry = fx_sub_q16(scan->y[j], scan->y[i]);
+    return fx_sub_q16(fx_mul_q16_q30(ry, c), fx_mul_q16_q30(rx, s));
+}
+
+/* Eq. 7 for the line through P[i] along the centre of bin b: every point
+ * of the window within t_line of the band's middle (the mean of the two
+ * end offsets). No array of offsets: zeroing one per bin tested costs more
+ * than computing the two ends twice. */
 static bool is_collinear(const ego_scan_t *scan, uint16_t i, uint8_t n, fx_q16_16_t t_line,
                          uint16_t b)
 {
-    fx_q2_30_t s;
-    fx_q2_30_t c;
-    fx_sincos(hist_bin_centre(b), &s, &c);
-    /* Distances relative to P[i]: d_j = (y_j - y_i) c - (x_j - x_i) s. */
-    fx_q16_16_t d[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u] = {0};
     if (n > EGO_TFIT_MAX_HALF_WINDOW) {
         return false;
     }
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(hist_bin_centre(b), &s, &c);
     const uint16_t first = (uint16_t)(i - n);
-    const uint16_t count = (uint16_t)(2u * n + 1u);
-    for (uint16_t k = 0u; k < count; k++) {
-        const fx_q16_16_t rx = fx_sub_q16(scan->x[first + k], scan->x[i]);
-        const fx_q16_16_t ry = fx_sub_q16(scan->y[first + k], scan->y[i]);
-        d[k] = fx_sub_q16(fx_mul_q16_q30(ry, c), fx_mul_q16_q30(rx, s));
-    }
-    const int64_t mid2 = (int64_t)d[0] + d[count - 1u]; /* 2 d' */
-    for (uint16_t k = 0u; k < count; k++) {
-        const int64_t dev2 = 2 * (int64_t)d[k] - mid2;
+    const uint16_t last = (uint16_t)(i + n);
+    const int64_t mid2 = (int64_t)line_offset(scan, i, first, s, c) +
+                         line_offset(scan, i, last, s, c); /* 2 d' */
+    for (uint16_t j = first; j <= last; j++) {
+        const int64_t dev2 = 2 * (int64_t)line_offset(scan, i, j, s, c) - mid2;
         if (dev2 > 2 * (int64_t)t_line || dev2 < -2 * (int64_t)t_line) {
             return false;
         }

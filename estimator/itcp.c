@@ -280,7 +280,11 @@ static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, query_t *
 static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_bam32_t tc)
 {
     const ego_scan_t *l = m->last;
-    match_t best = {false, 0u, 0, 0};
+    match_t best; /* field by field: an aggregate initialiser is a memset call at -Os */
+    best.found = false;
+    best.dist_sq = 0u;
+    best.x = 0;
+    best.y = 0;
     /* A lower bound of the distance from the scanner (no square root): a
      * smaller r only widens the cone, which stays safe. */
     const int64_t ax = (q->ox < 0) ? -q->ox : q->ox;

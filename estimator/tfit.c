@@ -87,13 +87,14 @@ static bool fit_line(const fx_q16_16_t *x, const fx_q16_16_t *y, const int32_t *
  * sort of a copy. */
 static int64_t median_abs(const fx_q16_16_t *residual, uint16_t n)
 {
-    int64_t a[TFIT_WINDOW_MAX] = {0};
+    int64_t a[TFIT_WINDOW_MAX]; /* a[0..k] filled by the insertion sort before any read */
     if (n == 0u || n > TFIT_WINDOW_MAX) {
         return 0;
     }
     for (uint16_t k = 0u; k < n; k++) {
         const int64_t v = abs64(residual[k]);
         uint16_t j = k;
+        // cppcheck-suppress uninitvar ; a[0 .. k - 1] was written by the earlier rounds
         while (j > 0u && a[j - 1u] > v) {
             a[j] = a[j - 1u];
             j--;

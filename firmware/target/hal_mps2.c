@@ -17,6 +17,14 @@
 #define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
 #define SYST_ENABLE_TICKINT_CORE 0x7u
 #define SYST_MAX 0xFFFFFFu
+#if defined(TARGET_PC_SAMPLING)
+/* A wrap every 997 ticks (39 880 instructions under -icount shift=0): each
+ * wrap samples the interrupted program counter. 997: no multiple of any
+ * loop's period. */
+#define SYST_RELOAD 996u
+#else
+#define SYST_RELOAD SYST_MAX
+#endif
 #define CORE_HZ 25000000u
 
 
@@ -69,14 +77,43 @@ void target_uart_puts(const char *text)
     target_uart_write((const uint8_t *)text, n);
 }
 
+#if defined(TARGET_PC_SAMPLING)
+static uint32_t pc_samples[TARGET_PC_BUCKETS];
+
+/* Entered from SysTick_Handler with the exception frame: r0 r1 r2 r3 r12
+ * lr pc xpsr (the FPU context, if any, follows). */
+void systick_sample(const uint32_t *frame);
+void systick_sample(const uint32_t *frame)
+{
+    systick_wraps++;
+    const uint32_t bucket = frame[6] / TARGET_PC_BUCKET_BYTES;
+    if (bucket < TARGET_PC_BUCKETS) {
+        pc_samples[bucket]++;
+    }
+}
+
+/* Naked: the frame is at the stack pointer before anything is pushed. The
+ * main program runs on the main stack, so the frame is on MSP. */
+__attribute__((naked)) void SysTick_Handler(void)
+{
+    __asm__ volatile("mrs r0, msp\n"
+                     "b systick_sample\n");
+}
+
+const uint32_t *target_pc_samples(void)
+{
+    return pc_samples;
+}
+#else
 void SysTick_Handler(void)
 {
     systick_wraps++;
 }
+#endif
 
 void target_clock_init(void)
 {
-    SYST_RVR = SYST_MAX;
+    SYST_RVR = SYST_RELOAD;
     SYST_CVR = 0u;
     SYST_CSR = SYST_ENABLE_TICKINT_CORE;
 }
@@ -91,6 +128,6 @@ uint64_t target_instructions(void)
         wraps = systick_wraps;
         value = SYST_CVR;
     } while (wraps != systick_wraps);
-    const uint64_t ticks = (uint64_t)wraps * (SYST_MAX + 1u) + (SYST_MAX - value);
+    const uint64_t ticks = (uint64_t)wraps * (SYST_RELOAD + 1u) + (SYST_RELOAD - value);
     return ticks * TARGET_INSNS_PER_TICK;
 }

@@ -144,6 +144,17 @@ int main(void)
         put_field(names[k], stage_insns[k]);
     }
 #endif
+#if defined(TARGET_PC_SAMPLING)
+    /* Where the samples fell: address of each 64-byte piece of flash and
+     * its count (a host script maps them to functions). */
+    const uint32_t *samples = target_pc_samples();
+    for (uint32_t b = 0u; b < TARGET_PC_BUCKETS; b++) {
+        if (samples[b] != 0u) {
+            put_field("\n# pc_sample at=", (uint64_t)b * TARGET_PC_BUCKET_BYTES);
+            put_field(" count=", samples[b]);
+        }
+    }
+#endif
     put_field("\n# stack_bytes used=", target_stack_used());
     put_field(" of=", target_stack_size());
     target_uart_puts("\n");

@@ -61,6 +61,16 @@ void target_uart_putc(int c);
 void target_clock_init(void);
 uint64_t target_instructions(void);
 
+/* Built with TARGET_PC_SAMPLING (a profiling build: docs/firmware.md),
+ * SysTick also samples the interrupted program counter every 39 880
+ * instructions into TARGET_PC_BUCKETS counters of TARGET_PC_BUCKET_BYTES
+ * of flash each (the first 256 KiB). */
+#define TARGET_PC_BUCKET_BYTES 64u
+#define TARGET_PC_BUCKETS 4096u
+#if defined(TARGET_PC_SAMPLING)
+const uint32_t *target_pc_samples(void);
+#endif
+
 /* Stack high-water mark: the bytes of the stack ever used since reset
  * (startup.c paints the stack before main). */
 uint32_t target_stack_used(void);
