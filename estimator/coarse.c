@@ -147,6 +147,8 @@ static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const 
     fx_sincos(pose->theta, &sn, &cs);
     const uint64_t sigma_sq = (uint64_t)((int64_t)sigma * sigma);
     const uint64_t per_point = sigma_sq >> 16; /* Q16.16 m^2 */
+    itcp_prober_t prober;
+    itcp_prober_init(&prober, last, sigma, 2 * sigma);
     tally_t t[2] = {{0u, 0u}, {0u, 0u}};
     for (uint8_t g = 0u; g < 2u; g++) {
         for (uint16_t k = 0u; k < s->count[g]; k++) {
@@ -155,7 +157,7 @@ static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const 
             fx_q16_16_t qy;
             ego_pose_apply(pose, sn, cs, cur->x[i], cur->y[i], &qx, &qy);
             uint64_t d2 = 0u;
-            const itcp_probe_t found = itcp_probe(last, qx, qy, sigma, 2 * sigma, &d2);
+            const itcp_probe_t found = itcp_probe(&prober, qx, qy, &d2);
             if (found == ITCP_PROBE_SURFACE) {
                 t[g].score += (sigma_sq - d2) >> 16;
             } else if (found == ITCP_PROBE_SEEN_THROUGH) {

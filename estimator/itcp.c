@@ -151,6 +151,16 @@ typedef struct {
     fx_q16_16_t y;
 } match_t;
 
+/* What one search for the nearest surface looks for: the current point
+ * moved to (x, y), its turned tangent tc (if has_tc), the search radius. */
+typedef struct {
+    fx_q16_16_t x;
+    fx_q16_16_t y;
+    bool has_tc;
+    fx_bam32_t tc;
+    uint64_t radius_sq;
+} target_t;
+
 /* Is (qx, qy) farther than limit (per axis, so this is cheap) from the
  * box spanned by points a and b: then the closest point of the segment
  * between them (which lies in the box, rounding included) is too. */
@@ -166,22 +176,20 @@ static bool outside_box(const ego_scan_t *l, uint16_t a, uint16_t b, fx_q16_16_t
 }
 
 /* Considers point j of the last scan and, if it is a surface, its segment
- * to j + 1, for the current point moved to (qx, qy) with turned tangent
- * tc (or no tangent). Cheapest tests first: the box test skips most
- * candidates of the walk before any product or division. */
-static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy,
-                     bool has_tc, fx_bam32_t tc, uint64_t radius_sq, match_t *best)
+ * to j + 1, for the target q (find_match calls it only when q is within
+ * the radius of the box of the two points). */
+static void consider(const matcher_t *m, const target_t *q, uint16_t j, match_t *best)
 {
     const ego_scan_t *l = m->last;
+    const fx_q16_16_t qx = q->x;
+    const fx_q16_16_t qy = q->y;
+    const uint64_t radius_sq = q->radius_sq;
     fx_q16_16_t cx = l->x[j];
     fx_q16_16_t cy = l->y[j];
     uint64_t d2;
     uint16_t near_point = j;
     bool segment = false;
     if (j + 1u < l->count && (l->flags[j] & (EGO_LINK_BREAK | EGO_LINK_OCCLUSION)) == 0u) {
-        if (outside_box(l, j, (uint16_t)(j + 1u), qx, qy, m->radius)) {
-            return; /* farther than the radius on one axis */
-        }
         fx_q2_30_t t;
         d2 = closest_on_segment(l, j, qx, qy, &cx, &cy, &t);
         if (d2 > radius_sq || (best->found && d2 >= best->dist_sq)) {
@@ -211,9 +219,6 @@ static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t
             (j > 0u && (l->flags[j - 1u] & EGO_LINK_OCCLUSION) != 0u)) {
             return;
         }
-        if (outside_box(l, j, j, qx, qy, m->radius)) {
-            return;
-        }
         const int64_t ex = (int64_t)qx - cx;
         const int64_t ey = (int64_t)qy - cy;
         d2 = (uint64_t)(ex * ex + ey * ey);
@@ -221,7 +226,7 @@ static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t
             return;
         }
     }
-    if (m->params->tangent_gate && has_tc) {
+    if (m->params->tangent_gate && q->has_tc) {
         fx_bam32_t tl;
         if ((l->flags[near_point] & EGO_POINT_HAS_TANGENT) != 0u) {
             tl = l->tangent[near_point];
@@ -230,7 +235,7 @@ static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t
         } else {
             return; /* nothing to compare the tangent with */
         }
-        if (fx_line_angle_diff(tc, tl) > m->params->gate) {
+        if (fx_line_angle_diff(q->tc, tl) > m->params->gate) {
             return;
         }
     }
@@ -240,14 +245,48 @@ static void consider(const matcher_t *m, uint16_t j, fx_q16_16_t qx, fx_q16_16_t
     best->y = cy;
 }
 
-/* Index of the first last-scan point whose bearing is at least rel. */
-static uint16_t lower_bound(const matcher_t *m, int64_t rel)
+/* Is point j's bearing below rel (relative to m->ref)? False up to an
+ * index, true after it: bearings increase along the scan. */
+static bool bearing_below(const matcher_t *m, uint16_t j, int64_t rel)
 {
-    uint16_t lo = 0u;
-    uint16_t hi = m->last->count;
-    while (lo < hi) { /* log2(EGO_MAX_POINTS) steps */
+    return (int64_t)fx_bam32_diff(m->last->bearing[j], m->ref) < rel;
+}
+
+/* Index of the first last-scan point whose bearing is at least rel. The
+ * search starts at hint (the last query's answer: consecutive points of a
+ * scan fall close together) and gallops outwards, 1, 2, 4, ... points,
+ * before the binary search: a few steps instead of log2(count) when the
+ * hint is good, at most twice as many when it is not. */
+static uint16_t lower_bound(const matcher_t *m, int64_t rel, uint16_t hint)
+{
+    const uint16_t n = m->last->count;
+    uint16_t lo = 0u; /* every j < lo is below */
+    uint16_t hi = n;  /* every j >= hi is not */
+    hint = (hint > n) ? n : hint;
+    if (hint < n && bearing_below(m, hint, rel)) {
+        lo = (uint16_t)(hint + 1u);
+        for (uint32_t step = 1u; (uint32_t)hint + step < n; step *= 2u) {
+            const uint16_t at = (uint16_t)(hint + step);
+            if (!bearing_below(m, at, rel)) {
+                hi = at;
+                break;
+            }
+            lo = (uint16_t)(at + 1u);
+        }
+    } else {
+        hi = hint;
+        for (uint32_t step = 1u; step <= hint; step *= 2u) {
+            const uint16_t at = (uint16_t)(hint - step);
+            if (bearing_below(m, at, rel)) {
+                lo = (uint16_t)(at + 1u);
+                break;
+            }
+            hi = at;
+        }
+    }
+    while (lo < hi) {
         const uint16_t mid = (uint16_t)((lo + hi) / 2u);
-        if ((int64_t)fx_bam32_diff(m->last->bearing[mid], m->ref) < rel) {
+        if (bearing_below(m, mid, rel)) {
             lo = (uint16_t)(mid + 1u);
         } else {
             hi = mid;
@@ -267,14 +306,15 @@ typedef struct {
     uint16_t j0;   /* first last-scan point with a bearing >= rel */
 } query_t;
 
-static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, query_t *q)
+/* hint: where the search for j0 starts (see lower_bound). */
+static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t hint, query_t *q)
 {
     q->x = qx;
     q->y = qy;
     q->ox = (int64_t)qx - m->last->origin_x;
     q->oy = (int64_t)qy - m->last->origin_y;
     q->rel = fx_bam32_diff(fx_atan2(q->oy, q->ox), m->ref);
-    q->j0 = lower_bound(m, q->rel);
+    q->j0 = lower_bound(m, q->rel, hint);
 }
 
 static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_bam32_t tc)
@@ -296,20 +336,27 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
     if (r_q > m->radius) {
         cone = ((int64_t)m->radius << 30) / r_q;
     }
-    const uint64_t radius_sq = (uint64_t)((int64_t)m->radius * m->radius);
-
+    const target_t t = {q->x, q->y, has_tc, tc, (uint64_t)((int64_t)m->radius * m->radius)};
+    /* The box test first: it skips most points of the walk before any
+     * product or division (consider accepts nothing outside the box of a
+     * point and its successor, which holds the point and its segment). */
+    const uint16_t end = (uint16_t)(l->count - 1u);
     for (uint16_t j = q->j0, k = 0u; j < l->count && k < ITCP_MAX_WALK; j++, k++) {
         if ((int64_t)fx_bam32_diff(l->bearing[j], m->ref) > q->rel + cone) {
             break;
         }
-        consider(m, j, q->x, q->y, has_tc, tc, radius_sq, &best);
+        if (!outside_box(l, j, (j < end) ? (uint16_t)(j + 1u) : j, t.x, t.y, m->radius)) {
+            consider(m, &t, j, &best);
+        }
     }
     for (uint16_t j = q->j0, k = 0u; j > 0u && k < ITCP_MAX_WALK; k++) {
         j--;
         if ((int64_t)fx_bam32_diff(l->bearing[j + 1u], m->ref) < q->rel - cone) {
             break;
         }
-        consider(m, j, q->x, q->y, has_tc, tc, radius_sq, &best);
+        if (!outside_box(l, j, (j < end) ? (uint16_t)(j + 1u) : j, t.x, t.y, m->radius)) {
+            consider(m, &t, j, &best);
+        }
     }
     return best;
 }
@@ -366,7 +413,7 @@ bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16
     matcher_t m;
     init_matcher(&m, last, radius);
     query_t q;
-    locate(&m, qx, qy, &q);
+    locate(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     const match_t best = find_match(&m, &q, false, 0u);
     *dist_sq = best.dist_sq;
     return best.found;
@@ -381,26 +428,43 @@ bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
     matcher_t m;
     init_matcher(&m, last, 0);
     query_t q;
-    locate(&m, qx, qy, &q);
+    locate(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     return seen_through(&m, &q, margin);
 }
 
-itcp_probe_t itcp_probe(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
-                        fx_q16_16_t radius, fx_q16_16_t margin, uint64_t *dist_sq)
+void itcp_prober_init(itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radius,
+                      fx_q16_16_t margin)
 {
-    if (last == NULL || dist_sq == NULL || last->count == 0u) {
+    p->last = last;
+    p->ref = (last != NULL && last->count > 0u) ? middle_bearing(last) : 0u;
+    p->radius = radius;
+    p->margin = margin;
+    p->radius_sq = (uint64_t)((int64_t)radius * radius);
+    p->hint = (last != NULL) ? (uint16_t)(last->count / 2u) : 0u;
+}
+
+itcp_probe_t itcp_probe(itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq)
+{
+    /* Only the gate switch is read by the search: everything else zero. */
+    static const itcp_params_t no_gate;
+    if (p == NULL || dist_sq == NULL || p->last == NULL || p->last->count == 0u) {
         return ITCP_PROBE_NOTHING;
     }
     matcher_t m;
-    init_matcher(&m, last, radius);
+    m.last = p->last;
+    m.params = &no_gate;
+    m.ref = p->ref;
+    m.main_direction = 0u;
+    m.radius = p->radius;
     query_t q;
-    locate(&m, qx, qy, &q);
+    locate(&m, qx, qy, p->hint, &q);
+    p->hint = q.j0;
     const match_t best = find_match(&m, &q, false, 0u);
     *dist_sq = best.dist_sq;
-    if (best.found && best.dist_sq < (uint64_t)((int64_t)radius * radius)) {
+    if (best.found && best.dist_sq < p->radius_sq) {
         return ITCP_PROBE_SURFACE;
     }
-    return seen_through(&m, &q, margin) ? ITCP_PROBE_SEEN_THROUGH : ITCP_PROBE_NOTHING;
+    return seen_through(&m, &q, p->margin) ? ITCP_PROBE_SEEN_THROUGH : ITCP_PROBE_NOTHING;
 }
 
 void itcp_sums_clear(itcp_sums_t *sums)
@@ -425,6 +489,7 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
     fx_sincos(pose->theta, &s, &c);
     const uint64_t inlier_sq =
         (uint64_t)((int64_t)m->params->inlier_distance * m->params->inlier_distance);
+    uint16_t hint = (uint16_t)(m->last->count / 2u);
     for (uint16_t i = 0u; i < cur->count; i++) {
         fx_q16_16_t qx;
         fx_q16_16_t qy;
@@ -436,7 +501,8 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
         const unsigned g = on_main ? 0u : 1u;
         pass->group_points[g]++;
         query_t q;
-        locate(m, qx, qy, &q);
+        locate(m, qx, qy, hint, &q);
+        hint = q.j0;
         if (with_free_space && seen_through(m, &q, 2 * m->params->inlier_distance)) {
             pass->group_seen_through[g]++;
         }

@@ -131,16 +131,29 @@ bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
                        fx_q16_16_t margin);
 
 /* itcp_nearest and then, unless a surface lies closer than radius,
- * itcp_seen_through, for one point (its place in the scan order found
- * once). *dist_sq as itcp_nearest's. For the coarse search. */
+ * itcp_seen_through, for one point at a time (its place in the scan order
+ * found once, starting where the last point's was). *dist_sq as
+ * itcp_nearest's. For the coarse search: prepare once per last scan with
+ * itcp_prober_init. */
 typedef enum {
     ITCP_PROBE_NOTHING = 0,     /* no surface closer than radius, no free space */
     ITCP_PROBE_SURFACE = 1,     /* a surface closer than radius: *dist_sq < radius^2 */
     ITCP_PROBE_SEEN_THROUGH = 2 /* none, and the last scan saw margin beyond the point */
 } itcp_probe_t;
 
-itcp_probe_t itcp_probe(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
-                        fx_q16_16_t radius, fx_q16_16_t margin, uint64_t *dist_sq);
+typedef struct {
+    /* Private. */
+    const ego_scan_t *last;
+    fx_bam32_t ref;
+    fx_q16_16_t radius;
+    fx_q16_16_t margin;
+    uint64_t radius_sq;
+    uint16_t hint;
+} itcp_prober_t;
+
+void itcp_prober_init(itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radius,
+                      fx_q16_16_t margin);
+itcp_probe_t itcp_probe(itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq);
 
 /* Registers current against last from *initial. main_direction is the
  * dominant line direction in the last scan's frame (hist_main_direction). */

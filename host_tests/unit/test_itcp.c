@@ -308,12 +308,14 @@ static void test_itcp_probe_is_nearest_then_free_space(void)
     unsigned seen[3] = {0u, 0u, 0u};
     const fx_q16_16_t radius = FX_Q16_16_C(0.1);
     const fx_q16_16_t margin = FX_Q16_16_C(0.2);
+    itcp_prober_t prober;
+    itcp_prober_init(&prober, &g_last, radius, margin);
     for (unsigned trial = 0u; trial < 3000u; trial++) {
         const fx_q16_16_t qx = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (1 << 16);
         const fx_q16_16_t qy = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
         uint64_t d_probe = 0u;
         uint64_t d_nearest = 0u;
-        const itcp_probe_t p = itcp_probe(&g_last, qx, qy, radius, margin, &d_probe);
+        const itcp_probe_t p = itcp_probe(&prober, qx, qy, &d_probe);
         const bool near = itcp_nearest(&g_last, qx, qy, radius, &d_nearest) &&
                           d_nearest < (uint64_t)((int64_t)radius * radius);
         const itcp_probe_t expected =
