@@ -135,12 +135,14 @@ static uint64_t combine(const sample_t *s, uint64_t main_value, uint64_t other_v
 
 /* The score of pose: per sample point max(0, sigma^2 - d^2) for a surface
  * at d < sigma, minus sigma^2 where the last scan saw through it; per group
- * clipped at 0, then combined. A pose that cannot score above must_beat
- * even if every point left scored fully is abandoned (it returns at most
- * must_beat): the grids keep only strict improvements, so the result is
- * the same as scoring every point. */
+ * clipped at 0, then combined. A pose that cannot beat must_beat even if
+ * every point left scored fully (or only tie with it, unless ties_win) is
+ * abandoned: it then returns a value that does not beat must_beat (at most
+ * must_beat, below it unless ties_win), so the grids, which keep only
+ * poses that beat the best, choose as if every point had been scored. */
 static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *s,
-                           const ego_pose_t *pose, fx_q16_16_t sigma, uint64_t must_beat)
+                           const ego_pose_t *pose, fx_q16_16_t sigma, uint64_t must_beat,
+                           bool ties_win)
 {
     fx_q2_30_t sn;
     fx_q2_30_t cs;
@@ -168,7 +170,7 @@ static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const 
                 (g == 0u) ? combine(s, tally_bound(&t[0], left, per_point),
                                     tally_bound(&t[1], s->count[1], per_point))
                           : combine(s, tally_value(&t[0]), tally_bound(&t[1], left, per_point));
-            if (bound <= must_beat) {
+            if (bound < must_beat || (bound == must_beat && !ties_win)) {
                 return bound;
             }
         }
@@ -185,23 +187,60 @@ static int32_t steps_in(fx_q16_16_t half, fx_q16_16_t step)
     return (n > COARSE_MAX_STEPS) ? COARSE_MAX_STEPS : n;
 }
 
+/* One square grid of translations around a pose, and the best pose so far. */
+typedef struct {
+    const ego_scan_t *last;
+    const ego_scan_t *cur;
+    const sample_t *sample;
+    ego_pose_t around;
+    fx_q16_16_t step;
+    fx_q16_16_t sigma;
+    int32_t n;          /* steps on each side */
+    ego_pose_t best;
+    uint64_t best_score;
+    int32_t best_rank;  /* the best's place in row order, -1: it came from outside */
+} grid_t;
+
+/* Scores the grid point (ix, iy). The points are visited in rings from the
+ * centre (the prediction is usually close, and an early good score lets
+ * score_pose abandon the far points sooner), but the choice is the one a
+ * visit in row order (ix, then iy, ascending) keeping strict improvements
+ * would make: a tie goes to the point earlier in row order, never past a
+ * best that came from outside the grid. */
+static void grid_point(grid_t *g, int32_t ix, int32_t iy)
+{
+    const int32_t rank = (ix + g->n) * (2 * g->n + 1) + (iy + g->n);
+    const bool ties_win = g->best_rank > rank;
+    const ego_pose_t p = {g->around.theta, fx_add_q16(g->around.x, ix * g->step),
+                          fx_add_q16(g->around.y, iy * g->step)};
+    const uint64_t sc =
+        score_pose(g->last, g->cur, g->sample, &p, g->sigma, g->best_score, ties_win);
+    if (sc > g->best_score || (sc == g->best_score && ties_win)) {
+        g->best_score = sc;
+        g->best = p;
+        g->best_rank = rank;
+    }
+}
+
 /* Tries the square grid around *around; keeps improvements in *best. */
 static void grid(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *s,
                  const ego_pose_t *around, fx_q16_16_t half, fx_q16_16_t step, fx_q16_16_t sigma,
                  ego_pose_t *best, uint64_t *best_score)
 {
-    const int32_t n = steps_in(half, step);
-    for (int32_t ix = -n; ix <= n; ix++) {
-        for (int32_t iy = -n; iy <= n; iy++) {
-            const ego_pose_t p = {around->theta, fx_add_q16(around->x, ix * step),
-                                  fx_add_q16(around->y, iy * step)};
-            const uint64_t sc = score_pose(last, cur, s, &p, sigma, *best_score);
-            if (sc > *best_score) {
-                *best_score = sc;
-                *best = p;
-            }
+    grid_t g = {last, cur, s, *around, step, sigma, steps_in(half, step), *best, *best_score, -1};
+    grid_point(&g, 0, 0);
+    for (int32_t k = 1; k <= g.n; k++) { /* the ring max(|ix|, |iy|) = k */
+        for (int32_t i = -k; i <= k; i++) {
+            grid_point(&g, i, -k);
+            grid_point(&g, i, k);
+        }
+        for (int32_t i = -k + 1; i < k; i++) {
+            grid_point(&g, -k, i);
+            grid_point(&g, k, i);
         }
     }
+    *best = g.best;
+    *best_score = g.best_score;
 }
 
 void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t main_direction,
@@ -221,7 +260,7 @@ void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t
      * the step, the grid point nearest the truth (up to 0.7 steps away)
      * may score below a wrong pose that happens to fit a few points. */
     const fx_q16_16_t coarse_sigma = (params->step > params->sigma) ? params->step : params->sigma;
-    *score = score_pose(last, current, &s, centre, params->sigma, 0u);
+    *score = score_pose(last, current, &s, centre, params->sigma, 0u, true);
     const int32_t r = params->rotation_steps;
     for (int32_t k = -r; k <= r; k++) {
         /* Coarse grid for this rotation, then the fine pass around its
@@ -231,7 +270,7 @@ void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t
         ego_pose_t around = *centre;
         around.theta += (fx_bam32_t)((uint32_t)k * params->rotation_step);
         ego_pose_t coarse_best = around;
-        uint64_t coarse_score = score_pose(last, current, &s, &around, coarse_sigma, 0u);
+        uint64_t coarse_score = score_pose(last, current, &s, &around, coarse_sigma, 0u, true);
         grid(last, current, &s, &around, params->window, params->step, coarse_sigma, &coarse_best,
              &coarse_score);
         grid(last, current, &s, &coarse_best, params->step, params->fine_step, params->sigma,
