@@ -262,7 +262,9 @@ static uint16_t lower_bound(const matcher_t *m, int64_t rel, uint16_t hint)
     const uint16_t n = m->last->count;
     uint16_t lo = 0u; /* every j < lo is below */
     uint16_t hi = n;  /* every j >= hi is not */
-    hint = (hint > n) ? n : hint;
+    if (hint > n) {
+        hint = n;
+    }
     if (hint < n && bearing_below(m, hint, rel)) {
         lo = (uint16_t)(hint + 1u);
         for (uint32_t step = 1u; (uint32_t)hint + step < n; step *= 2u) {
