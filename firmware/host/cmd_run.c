@@ -37,6 +37,7 @@
 #include <time.h>
 
 #include "commands.h"
+#include "ego_live.h"
 #include "ego_loop.h"
 #include "lms_serial.h"
 #include "live_common.h"
@@ -234,42 +235,6 @@ static const char *cause_text(lms_session_cause_t c)
     }
 }
 
-/* Scan times (see the header comment). */
-typedef struct {
-    bool started;
-    bool restarted;          /* a restart since the last scan */
-    uint32_t time_us;        /* time of the last scan */
-    uint32_t arrival_us;     /* host clock at its arrival */
-    uint32_t damaged;        /* framer errors counted at the last scan */
-} scan_clock_t;
-
-static uint32_t framer_damage(const lms_session_t *s)
-{
-    const lms_framer_stats_t *f = lms_session_framer_stats(s);
-    return f->crc_errors + f->length_errors + f->truncated;
-}
-
-static uint32_t scan_time(scan_clock_t *c, const lms_session_t *s, uint32_t now_us)
-{
-    const uint32_t interval = lms_session_scan_interval_us(s);
-    const uint32_t damaged = framer_damage(s);
-    if (!c->started) {
-        c->started = true;
-        c->time_us = 0u;
-    } else if (c->restarted) {
-        const uint32_t n = (now_us - c->arrival_us + interval / 2u) / interval;
-        c->time_us += (n == 0u ? 1u : n) * interval;
-    } else {
-        uint32_t lost = damaged - c->damaged;
-        lost = lost > 8u ? 8u : lost; /* more would have been a restart */
-        c->time_us += (1u + lost) * interval;
-    }
-    c->restarted = false;
-    c->arrival_us = now_us;
-    c->damaged = damaged;
-    return c->time_us;
-}
-
 /* Scans waiting for the estimator. The line is read, and the session fed,
  * between any two scans: a hard scan (the estimator needs up to hundreds
  * of ms for some) then only delays the scans behind it, while the bytes
@@ -329,9 +294,11 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     static live_io_t io;
     static lms_session_t session;
     static ego_loop_t loop;
-    static scan_clock_t clock;
+    /* Scan times (see the header comment): the firmware core's rule
+     * (ego_live.h), so `run` and a firmware with the session agree. */
+    static ego_live_clock_t clock;
     static scan_queue_t queue;
-    memset(&clock, 0, sizeof clock);
+    ego_live_clock_init(&clock);
     queue.head = 0u;
     queue.count = 0u;
     queue.dropped = 0u;
@@ -340,7 +307,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     memset(&io, 0, sizeof io);
     lms_session_defaults(&o.session);
     ego_loop_defaults(&o.loop);
-    o.loop.use_clock = true; /* with the counted times of scan_time() */
+    o.loop.use_clock = true; /* with the counted times of ego_live_clock_scan() */
     const int rc = parse_options(self, argc, argv, record, &o);
     if (rc == PARSED_HELP) {
         return CLI_EXIT_OK; /* --help */
@@ -462,7 +429,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
                 if (ev == LMS_SESSION_EV_SCAN) {
                     size_t len = 0u;
                     const uint8_t *t = lms_session_telegram(&session, &len);
-                    const uint32_t t_us = scan_time(&clock, &session, now);
+                    const uint32_t t_us = ego_live_clock_scan(&clock, &session, now);
                     if (!record) {
                         (void)queue_push(&queue, t, len, t_us);
                     }
@@ -483,7 +450,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
                     if (!record) {
                         (void)queue_push(&queue, NULL, 0u, 0u);
                     }
-                    clock.restarted = true;
+                    ego_live_clock_restart(&clock);
                 } else if (ev == LMS_SESSION_EV_STOPPED) {
                     done = true;
                 } else if (ev == LMS_SESSION_EV_FAILED) {

@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "ego_loop.h"
+#include "report.h"
 #include "target.h"
 
 extern const uint8_t lmsego_stream[];
@@ -99,28 +100,6 @@ void ego_profile_stage(ego_stage_t stage)
 }
 #endif
 
-/* Insertion sort: at most MAX_MEASURED entries, once. */
-static uint32_t median(uint32_t *v, uint32_t n)
-{
-    for (uint32_t i = 1u; i < n; i++) {
-        const uint32_t x = v[i];
-        uint32_t j = i;
-        for (; j > 0u && v[j - 1u] > x; j--) {
-            v[j] = v[j - 1u];
-        }
-        v[j] = x;
-    }
-    return n == 0u ? 0u : v[n / 2u];
-}
-
-static void put_field(const char *name, uint64_t value)
-{
-    char num[32];
-    (void)ego_format_fixed(num, (int64_t)value, 0u);
-    target_uart_puts(name);
-    target_uart_puts(num);
-}
-
 int main(void)
 {
     target_uart_init();
@@ -132,16 +111,17 @@ int main(void)
     last_mark = target_instructions();
     while (ego_loop_step(&loop, &hal) != EGO_LOOP_END) {
     }
-    put_field("# insns_per_scan median=", (uint64_t)median(insns, measured) * TARGET_INSNS_PER_TICK);
-    put_field(" max=", (uint64_t)insns_max * TARGET_INSNS_PER_TICK);
-    put_field(" scans=", ego_loop_stats(&loop)->scans);
+    report_field("# insns_per_scan median=",
+                 (uint64_t)report_median(insns, measured) * TARGET_INSNS_PER_TICK);
+    report_field(" max=", (uint64_t)insns_max * TARGET_INSNS_PER_TICK);
+    report_field(" scans=", ego_loop_stats(&loop)->scans);
 #if defined(EGO_PROFILE)
     ego_profile_stage(EGO_STAGE_OTHER);
     static const char *const names[EGO_STAGE_COUNT] = {
         "\n# stage_insns prepare=", " tangents=", " histogram=", " correlate=",
         " register=", " coarse=", " other="};
     for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
-        put_field(names[k], stage_insns[k]);
+        report_field(names[k], stage_insns[k]);
     }
 #endif
 #if defined(TARGET_PC_SAMPLING)
@@ -150,13 +130,13 @@ int main(void)
     const uint32_t *samples = target_pc_samples();
     for (uint32_t b = 0u; b < TARGET_PC_BUCKETS; b++) {
         if (samples[b] != 0u) {
-            put_field("\n# pc_sample at=", (uint64_t)b * TARGET_PC_BUCKET_BYTES);
-            put_field(" count=", samples[b]);
+            report_field("\n# pc_sample at=", (uint64_t)b * TARGET_PC_BUCKET_BYTES);
+            report_field(" count=", samples[b]);
         }
     }
 #endif
-    put_field("\n# stack_bytes used=", target_stack_used());
-    put_field(" of=", target_stack_size());
+    report_field("\n# stack_bytes used=", target_stack_used());
+    report_field(" of=", target_stack_size());
     target_uart_puts("\n");
     target_exit(TARGET_EXIT_OK);
 }

@@ -1,7 +1,10 @@
 # run_replay.cmake: runs a replay image under the emulator and checks it.
 #   -DEMULATOR=<qemu command, a list ending in -kernel> -DIMAGE=<elf>
 #   -DSTREAM=<.lms> -DHOST_LMSEGO=<host lmsego or empty> -DOUT=<prefix>
-# Passes when the image exits 0, prints its '# insns_per_scan' line, and
+#   [-DMAX_INSNS=<gate on the largest scan's instructions>]
+# Passes when the image exits 0, prints its '# insns_per_scan' line (with
+# a max at or below MAX_INSNS, when given: instruction counts under
+# -icount are the same run after run, so the gate catches any growth), and
 # (with HOST_LMSEGO) every other line equals the host's `lmsego replay`.
 # Writes OUT.target (all output), OUT.host, OUT.figures (the '#' lines).
 get_filename_component(dir "${OUT}" DIRECTORY)
@@ -17,8 +20,16 @@ foreach(line IN LISTS figures)
     message(STATUS "${line}")
     file(APPEND "${OUT}.figures" "${line}\n")
 endforeach()
-if(NOT figures MATCHES "# insns_per_scan median=[0-9]+ max=[0-9]+")
+if(NOT figures MATCHES "# insns_per_scan median=([0-9]+) max=([0-9]+)")
     message(FATAL_ERROR "no '# insns_per_scan' line")
+endif()
+if(MAX_INSNS)
+    if(CMAKE_MATCH_2 GREATER MAX_INSNS)
+        message(FATAL_ERROR "the hardest scan took ${CMAKE_MATCH_2} instructions, above the "
+            "gate of ${MAX_INSNS} (firmware/target/insns_gates.cmake): the estimator grew "
+            "slower; find why, or move the gate with the new figures in docs/firmware.md")
+    endif()
+    message(STATUS "hardest scan ${CMAKE_MATCH_2} instructions, gate ${MAX_INSNS}")
 endif()
 # The stack section is 4 KiB with .bss below it: keep a 512-byte margin.
 if(NOT figures MATCHES "# stack_bytes used=([0-9]+)")

@@ -1,0 +1,233 @@
+/* ego_live.c - see ego_live.h. */
+#include "ego_live.h"
+
+#include <string.h>
+
+/* More damaged telegrams than this between two scans would have been a
+ * silence restart (the session's default silence_scans). */
+#define MAX_LOST_PER_SCAN 8u
+
+void ego_live_defaults(ego_live_config_t *config)
+{
+    memset(config, 0, sizeof *config);
+    lms_session_defaults(&config->session);
+    ego_loop_defaults(&config->loop);
+}
+
+/* --- Scan times ------------------------------------------------------- */
+
+void ego_live_clock_init(ego_live_clock_t *clock)
+{
+    memset(clock, 0, sizeof *clock);
+}
+
+void ego_live_clock_restart(ego_live_clock_t *clock)
+{
+    clock->restarted = true;
+}
+
+static uint32_t framer_damage(const lms_session_t *s)
+{
+    const lms_framer_stats_t *f = lms_session_framer_stats(s);
+    return f->crc_errors + f->length_errors + f->truncated;
+}
+
+uint32_t ego_live_clock_scan(ego_live_clock_t *clock, const lms_session_t *session,
+                             uint32_t arrival_us)
+{
+    const uint32_t interval = lms_session_scan_interval_us(session);
+    const uint32_t damaged = framer_damage(session);
+    if (!clock->started) {
+        clock->started = true;
+        clock->time_us = 0u;
+    } else if (clock->restarted) {
+        /* Whole intervals between the two arrivals, at least one. */
+        const uint32_t n = (arrival_us - clock->arrival_us + interval / 2u) / interval;
+        clock->time_us += (n == 0u ? 1u : n) * interval;
+    } else {
+        uint32_t lost = damaged - clock->damaged;
+        lost = lost > MAX_LOST_PER_SCAN ? MAX_LOST_PER_SCAN : lost;
+        clock->time_us += (1u + lost) * interval;
+    }
+    clock->restarted = false;
+    clock->arrival_us = arrival_us;
+    clock->damaged = damaged;
+    return clock->time_us;
+}
+
+/* --- The session's and the loop's HAL --------------------------------- */
+
+static void session_write(void *ctx, const uint8_t *bytes, size_t len)
+{
+    ego_live_t *live = ctx;
+    live->hal.scanner_write(live->hal.ctx, bytes, len);
+}
+
+/* The session's "set the rate and drop what was buffered": the ring is
+ * emptied before the UART changes, so that a byte caught between the two
+ * is old-rate noise the framer skips rather than a good new-rate byte
+ * lost. (The rest of the chunk being fed when the rate changes goes on to
+ * the session, which has seen the answer it waited for and skips what
+ * follows as noise, as `lmsego run` does with the rest of its read.) */
+static void session_set_baud(void *ctx, lms_baud_t baud)
+{
+    ego_live_t *live = ctx;
+    live->stats.bytes_discarded += (uint32_t)uart_ring_discard(live->rx);
+    live->hal.scanner_set_baud(live->hal.ctx, baud);
+}
+
+lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
+                           const ego_live_hal_t *hal, uart_ring_t *rx)
+{
+    if (live == NULL) {
+        return LMS_ERR_ARG;
+    }
+    memset(live, 0, sizeof *live);
+    live->status = EGO_LIVE_FAILED;
+    if (config == NULL || hal == NULL || rx == NULL || hal->scanner_write == NULL ||
+        hal->scanner_set_baud == NULL || hal->now_us == NULL || hal->out_write == NULL) {
+        return LMS_ERR_ARG;
+    }
+    live->hal = *hal;
+    live->rx = rx;
+    live->max_scans = config->max_scans;
+    ego_live_clock_init(&live->clock);
+    live->loop_hal.read = NULL; /* ego_loop_telegram only writes */
+    live->loop_hal.write = hal->out_write;
+    live->loop_hal.now_us = hal->now_us;
+    live->loop_hal.ctx = hal->ctx;
+    ego_loop_config_t loop_config = config->loop;
+    loop_config.use_clock = true; /* with the times of ego_live_clock_scan */
+    ego_loop_init(&live->loop, &loop_config);
+    live->stats.bytes_discarded = (uint32_t)uart_ring_discard(rx); /* from before the session */
+    const lms_session_io_t io = {session_write, session_set_baud, live};
+    if (lms_session_init(&live->session, &config->session, &io, hal->now_us(hal->ctx)) != LMS_OK) {
+        return LMS_ERR_ARG;
+    }
+    live->status = EGO_LIVE_RUNNING;
+    return LMS_OK;
+}
+
+/* One event of the session, at time now_us. */
+static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
+{
+    switch (ev) {
+    case LMS_SESSION_EV_SCAN: {
+        size_t len = 0u;
+        const uint8_t *t = lms_session_telegram(&live->session, &len);
+        const uint32_t t_us = ego_live_clock_scan(&live->clock, &live->session, now_us);
+        if (live->max_scans != 0u && live->stats.scans >= live->max_scans) {
+            live->stats.scans_ignored++;
+            break;
+        }
+        live->stats.scans++;
+        ego_loop_telegram(&live->loop, &live->loop_hal, t, len, t_us);
+        if (live->max_scans != 0u && live->stats.scans == live->max_scans) {
+            lms_session_stop(&live->session, now_us); /* no B0 is reported after this */
+        }
+        break;
+    }
+    case LMS_SESSION_EV_RESTART:
+        ego_loop_gap(&live->loop);
+        ego_live_clock_restart(&live->clock);
+        live->stats.gaps++;
+        break;
+    case LMS_SESSION_EV_STOPPED:
+        live->status = EGO_LIVE_STOPPED;
+        break;
+    case LMS_SESSION_EV_FAILED:
+        live->status = EGO_LIVE_FAILED;
+        break;
+    default: /* NONE, STREAMING: nothing to do */
+        break;
+    }
+}
+
+/* Feeds chunk[0..n), which arrived by arrival_us, handling every event. */
+static void feed_chunk(ego_live_t *live, size_t n, uint32_t arrival_us)
+{
+    size_t off = 0u;
+    live->stats.bytes += (uint32_t)n;
+    /* Bounded: each feed uses bytes or reports an event, and the session
+     * reports at most LMS_FRAMER_BUF_SIZE events from its framer's buffer
+     * plus its four pending reports without new bytes. */
+    for (size_t guard = 0u; guard <= n + LMS_FRAMER_BUF_SIZE + 4u; guard++) {
+        size_t used = 0u;
+        const lms_session_event_t ev =
+            lms_session_feed(&live->session, &live->chunk[off], n - off, &used, arrival_us);
+        off += used;
+        if (ev == LMS_SESSION_EV_NONE) {
+            break;
+        }
+        on_event(live, ev, arrival_us);
+        if (live->status != EGO_LIVE_RUNNING) {
+            break;
+        }
+    }
+}
+
+ego_live_status_t ego_live_step(ego_live_t *live)
+{
+    if (live->status != EGO_LIVE_RUNNING) {
+        return live->status;
+    }
+    live->stats.steps++;
+    /* Only what is waiting now: a babbling line cannot starve the timers. */
+    size_t budget = uart_ring_count(live->rx);
+    while (budget > 0u && live->status == EGO_LIVE_RUNNING) {
+        uint32_t arrival_us = 0u;
+        const size_t want = budget < sizeof live->chunk ? budget : sizeof live->chunk;
+        const size_t n = uart_ring_read(live->rx, live->chunk, want, &arrival_us);
+        if (n == 0u) {
+            break; /* discarded at a rate change */
+        }
+        budget -= n;
+        feed_chunk(live, n, arrival_us);
+    }
+    /* The timers, after the bytes: a reply that came before its deadline
+     * is never taken for a timeout because the loop was late. */
+    const uint32_t now = live->hal.now_us(live->hal.ctx);
+    for (uint32_t guard = 0u; guard < 16u && live->status == EGO_LIVE_RUNNING; guard++) {
+        const lms_session_event_t ev = lms_session_poll(&live->session, now);
+        if (ev == LMS_SESSION_EV_NONE) {
+            break;
+        }
+        on_event(live, ev, now);
+    }
+    return live->status;
+}
+
+uint32_t ego_live_wait_us(const ego_live_t *live)
+{
+    if (live->status != EGO_LIVE_RUNNING || uart_ring_count(live->rx) > 0u) {
+        return 0u;
+    }
+    return lms_session_wait_us(&live->session, live->hal.now_us(live->hal.ctx));
+}
+
+void ego_live_stop(ego_live_t *live)
+{
+    if (live->status == EGO_LIVE_RUNNING) {
+        lms_session_stop(&live->session, live->hal.now_us(live->hal.ctx));
+    }
+}
+
+ego_live_status_t ego_live_status(const ego_live_t *live)
+{
+    return live->status;
+}
+
+const ego_live_stats_t *ego_live_stats(const ego_live_t *live)
+{
+    return &live->stats;
+}
+
+const lms_session_t *ego_live_session(const ego_live_t *live)
+{
+    return &live->session;
+}
+
+const ego_loop_t *ego_live_loop(const ego_live_t *live)
+{
+    return &live->loop;
+}

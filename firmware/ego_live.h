@@ -1,0 +1,153 @@
+/* ego_live.h - the firmware core with a live scanner: the receive ring
+ * drained into the session (driver/lms_session.h), which brings the
+ * scanner up and keeps it streaming, and every scan handed to the loop
+ * (ego_loop.h), which writes its CSV line or binary frame. Portable C11:
+ * no OS headers, no heap, no stdio.
+ *
+ *   UART RX interrupt / DMA --uart_ring_put/write--> uart_ring_t
+ *   main loop: ego_live_step --> lms_session_feed / _poll
+ *                                  EV_SCAN    -> ego_loop_telegram -> hal.out_write
+ *                                  EV_RESTART -> ego_loop_gap
+ *                               <-- hal.scanner_write, hal.scanner_set_baud
+ *
+ * Scan times are those of `lmsego run` (firmware/host/cmd_run.c), so a live
+ * run that loses nothing prints the CSV of `lmsego replay` of the same
+ * scans, byte for byte: scan k is one scan interval
+ * (lms_session_scan_interval_us) after scan k - 1, plus one interval per
+ * telegram the session's framer saw damaged in between (at most 8); only
+ * across a restart does the clock count the intervals that passed, from the
+ * arrival of the last scan before it to the arrival of the first after it.
+ * Counting beats stamping: the scanner's mirror is a better clock than the
+ * moment a busy main loop gets to a telegram. The arrival time used across
+ * a restart, and every time given to the session with bytes (byte gaps,
+ * the silence timer, replies), is the receive ring's stamp of the bytes
+ * (uart_ring.h: taken by the interrupt when they came, late by at most
+ * the rest of their ring block), not the time the loop read them: a loop
+ * held up by a hard scan still counts the gap from when the scans came.
+ * And the timers run after the waiting bytes are fed, so a reply or a scan
+ * that did come is never taken for a timeout or for silence because the
+ * loop was late.
+ *
+ * Static memory: ego_live_t holds the session, the loop (ego_loop_t, about
+ * 25 KB with the estimator) and a chunk buffer (EGO_LIVE_CHUNK bytes); the
+ * caller owns it (a static) and the ring. Main loop only; nothing here
+ * runs in an interrupt except the ring's producer side.
+ */
+#ifndef EGO_LIVE_H
+#define EGO_LIVE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "ego_loop.h"
+#include "lms_session.h"
+#include "uart_ring.h"
+
+/* Bytes taken from the ring per session feed: a ring read returns at most
+ * one stamp block, the unit of arrival time. */
+#define EGO_LIVE_CHUNK UART_RING_STAMP_BYTES
+
+/* The platform. */
+typedef struct {
+    /* Bytes to the scanner's UART (may block; at 500 kbaud the platform
+     * paces host telegrams, >= 55 us between bytes). */
+    void (*scanner_write)(void *ctx, const uint8_t *bytes, size_t len);
+    /* Reprograms the scanner's UART to a rate (the core has discarded the
+     * ring's bytes, received at the old rate, just before). */
+    void (*scanner_set_baud)(void *ctx, lms_baud_t baud);
+    /* The free-running microsecond clock the receive interrupt stamps
+     * bytes with (wraps after 71.6 minutes: fine). */
+    uint32_t (*now_us)(void *ctx);
+    /* The output: CSV lines or binary frames (may block). */
+    void (*out_write)(void *ctx, const uint8_t *bytes, size_t len);
+    void *ctx;
+} ego_live_hal_t;
+
+typedef struct {
+    lms_session_config_t session;
+    ego_loop_config_t loop;   /* use_clock is forced on: scan times from the session */
+    uint32_t max_scans;       /* stop cleanly after this many scans; 0: never */
+} ego_live_config_t;
+
+/* Session defaults (500 kbaud, scanner's variant and units kept), loop
+ * defaults (CSV), no scan limit. */
+void ego_live_defaults(ego_live_config_t *config);
+
+/* Scan times (see above). Also usable on its own (lmsego run). */
+typedef struct {
+    bool started;
+    bool restarted;       /* a restart since the last scan */
+    uint32_t time_us;     /* time of the last scan, from the first */
+    uint32_t arrival_us;  /* clock at its arrival */
+    uint32_t damaged;     /* framer damage counted at the last scan */
+} ego_live_clock_t;
+
+void ego_live_clock_init(ego_live_clock_t *clock);
+/* The session restarted: the next scan's time comes from the clock. */
+void ego_live_clock_restart(ego_live_clock_t *clock);
+/* The time of a scan the session reported (EV_SCAN) that arrived at
+ * arrival_us: 0 for the first. */
+uint32_t ego_live_clock_scan(ego_live_clock_t *clock, const lms_session_t *session,
+                             uint32_t arrival_us);
+
+typedef enum {
+    EGO_LIVE_RUNNING = 0,
+    EGO_LIVE_STOPPED = 1, /* stopped cleanly (ego_live_stop or max_scans) */
+    EGO_LIVE_FAILED = 2   /* the scanner refused a setting: lms_session_error() */
+} ego_live_status_t;
+
+typedef struct {
+    uint32_t steps;
+    uint32_t bytes;           /* fed to the session */
+    uint32_t bytes_discarded; /* dropped from the ring: at init, at a rate change */
+    uint32_t scans;           /* handed to the loop */
+    uint32_t scans_ignored;   /* reported after max_scans */
+    uint32_t gaps;            /* restarts passed to the loop */
+} ego_live_stats_t;
+
+typedef struct {
+    /* Private. */
+    ego_live_hal_t hal;
+    ego_hal_t loop_hal;       /* the loop's view: out_write and now_us */
+    uart_ring_t *rx;
+    uint32_t max_scans;
+    ego_live_status_t status;
+    ego_live_stats_t stats;
+    ego_live_clock_t clock;
+    lms_session_t session;
+    ego_loop_t loop;
+    uint8_t chunk[EGO_LIVE_CHUNK];
+} ego_live_t;
+
+/* Starts the session now (hal.now_us) and the loop. rx is the ring the
+ * receive interrupt fills (uart_ring_init'ed by the caller); what it holds
+ * now is discarded. Returns LMS_ERR_ARG for a NULL argument, a missing HAL
+ * function or a session configuration lms_session_check_config refuses
+ * (the core is then FAILED). live and rx must stay where they are (the
+ * session keeps a pointer to live). */
+lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
+                           const ego_live_hal_t *hal, uart_ring_t *rx);
+
+/* One round of the main loop: feeds the session the bytes the ring holds
+ * now (in chunks of at most EGO_LIVE_CHUNK, each with its arrival stamp; bytes that
+ * arrive meanwhile wait for the next step), runs each scan through the
+ * loop as it comes (the estimator runs here), then runs the session's
+ * timers at hal.now_us. Returns the status; once STOPPED or FAILED it
+ * does nothing more. */
+ego_live_status_t ego_live_step(ego_live_t *live);
+
+/* How long the caller may sleep (WFI) before the next step if no byte
+ * comes: 0 when bytes wait or something is due. */
+uint32_t ego_live_wait_us(const ego_live_t *live);
+
+/* Asks for a clean stop (stream off, scanner back at 9600 baud with the
+ * session's restore_9600); the status becomes STOPPED when it is done. */
+void ego_live_stop(ego_live_t *live);
+
+ego_live_status_t ego_live_status(const ego_live_t *live);
+const ego_live_stats_t *ego_live_stats(const ego_live_t *live);
+const lms_session_t *ego_live_session(const ego_live_t *live);
+const ego_loop_t *ego_live_loop(const ego_live_t *live);
+
+#endif /* EGO_LIVE_H */

@@ -1,0 +1,618 @@
+/* test_ego_live.c - the firmware core with a live scanner (ego_live.h)
+ * against the simulated LMS 2xx (lms_sim.h), in-process, on a simulated
+ * clock: bring-up from 9600 to 500 kbaud, every scan's line, the same CSV
+ * as a replay of the same telegrams (the `lmsego replay` loop), recovery
+ * after a power cycle (the outage counted in scan intervals from the bytes'
+ * arrival stamps, also when the main loop runs late), a clean stop, a main
+ * loop that runs late, old-rate bytes dropped at the baud switch, a
+ * refused setting, and the init checks.
+ *
+ * The rig is a board: what the core writes reaches the simulator at the
+ * host UART's current rate; what the simulator sends goes through the
+ * receive ring as an interrupt would put it, stamped with the time it
+ * arrived. Time advances to whichever end needs it next, at most
+ * RIG_STEP_US at a time. The scene: the scanner drives through
+ * synth_room; scene scan i is always the same telegram, and a stream
+ * started again after a restart goes on with the scans not sent yet, so
+ * the scans the core gets are scene scans 0, 1, 2, ... when nothing is
+ * lost.
+ */
+#include <string.h>
+
+#include "ego_live.h"
+#include "lms_encode.h"
+#include "lms_sim.h"
+#include "synth_scan.h"
+#include "unity.h"
+
+#define RIG_STEP_US 2000u
+#define SEC 1000000u
+#define SCENE_MAX 64u
+#define OUT_MAX 16384u
+#define JUNK (UART_RING_STAMP_BYTES + 8u) /* more than one ring read takes */
+#define PI_D 3.14159265358979323846
+/* How much later than its last byte a late loop may see a telegram's
+ * stamp: the pause before the next telegram (13.3 ms period, 374 bytes of
+ * 20 us) and the 31 bytes after it in its ring block. */
+#define LATE_STAMP_US (13333u - 374u * 20u + 31u * 20u)
+
+typedef struct {
+    uint8_t bytes[LMS_TELEGRAM_MAX];
+    size_t len;
+} telegram_t;
+
+typedef struct {
+    /* The scene: telegrams built on first use. */
+    telegram_t scene[SCENE_MAX];
+    uint32_t scene_built;
+    uint32_t base;        /* scene index of k = 0 of the current stream */
+    uint32_t last_k;
+    bool asked;
+    /* The board. */
+    lms_sim_t sim;
+    uart_ring_t ring;
+    ego_live_t live;
+    lms_baud_t host_baud;
+    uint64_t now;
+    uint32_t baud_sets;
+    uint64_t first_streaming_us; /* 0: not yet */
+    uint64_t sent_us[SCENE_MAX]; /* when the scanner queued its i-th scan */
+    /* Junk after the scanner's answer to the baud switch, in the same
+     * chunk, as if the line had carried on at the old rate. */
+    bool junk_on_switch;
+    uint32_t junk_sent;
+    lms_framer_t side;           /* the rig's own view of the scanner's bytes */
+    char out[OUT_MAX];
+    size_t out_len;
+    bool out_overflow;
+} rig_t;
+
+static rig_t R;
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+/* --- The scene ---------------------------------------------------------- */
+
+static const telegram_t *scene_scan(uint32_t i)
+{
+    static lms_scan_t scan;
+    while (R.scene_built <= i && R.scene_built < SCENE_MAX) {
+        const double k = (double)R.scene_built;
+        /* 3 cm and 0.25 deg per scan: an easy drive for the estimator. */
+        synth_scan(synth_room, synth_room_walls, 0.03 * k, 0.004 * k, 0.25 * k * PI_D / 180.0,
+                   181u, LMS_UNIT_CM, &scan);
+        telegram_t *t = &R.scene[R.scene_built];
+        TEST_ASSERT_EQUAL_INT(LMS_OK, lms_encode_scan(t->bytes, sizeof t->bytes, 0x80u, &scan,
+                                                      &t->len));
+        R.scene_built++;
+    }
+    return i < SCENE_MAX ? &R.scene[i] : NULL;
+}
+
+/* Scan k of the current stream. The simulator asks for k + 1 as soon as k
+ * is queued, so when a new stream starts (k = 0 again) the last scan asked
+ * for was never sent: the new stream starts with it. */
+static bool source(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t resolution_cdeg,
+                   bool partial, lms_unit_t unit, uint8_t reply_address, uint8_t *out, size_t cap,
+                   size_t *len, uint32_t *gap_us)
+{
+    (void)ctx;
+    (void)angle_deg;
+    (void)resolution_cdeg;
+    (void)partial;
+    (void)unit;
+    (void)reply_address;
+    if (k == 0u && R.asked) {
+        R.base += R.last_k;
+    }
+    R.asked = true;
+    R.last_k = k;
+    const telegram_t *t = scene_scan(R.base + k);
+    if (t == NULL || t->len > cap) {
+        return false;
+    }
+    memcpy(out, t->bytes, t->len);
+    *len = t->len;
+    *gap_us = 0u;
+    return true;
+}
+
+/* --- The board ---------------------------------------------------------- */
+
+static void hal_scanner_write(void *ctx, const uint8_t *bytes, size_t len)
+{
+    rig_t *r = ctx;
+    lms_sim_receive(&r->sim, bytes, len, r->host_baud, r->now);
+}
+
+static void hal_set_baud(void *ctx, lms_baud_t baud)
+{
+    rig_t *r = ctx;
+    r->host_baud = baud;
+    r->baud_sets++;
+}
+
+static uint32_t hal_now_us(void *ctx)
+{
+    const rig_t *r = ctx;
+    return (uint32_t)r->now;
+}
+
+static void hal_out(void *ctx, const uint8_t *bytes, size_t len)
+{
+    rig_t *r = ctx;
+    if (r->out_len + len >= sizeof r->out) {
+        r->out_overflow = true;
+        return;
+    }
+    memcpy(&r->out[r->out_len], bytes, len);
+    r->out_len += len;
+    r->out[r->out_len] = '\0';
+}
+
+static void config_defaults(lms_sim_config_t *sc, ego_live_config_t *lc)
+{
+    lms_sim_defaults(sc);
+    sc->scan_source = source; /* powers up at 9600, 180 deg / 0.5 deg */
+    ego_live_defaults(lc);
+    lc->session.baud = LMS_BAUD_500000;
+    lc->session.angle_deg = 180u;
+    lc->session.resolution_cdeg = 100u; /* 181 values, 75 Hz */
+}
+
+static void rig_init(const lms_sim_config_t *sc, const ego_live_config_t *lc)
+{
+    memset(&R, 0, sizeof R);
+    R.now = 1000u;
+    R.host_baud = LMS_BAUD_9600;
+    lms_sim_init(&R.sim, sc, R.now);
+    lms_framer_init(&R.side, LMS_FROM_SCANNER);
+    uart_ring_init(&R.ring);
+    const ego_live_hal_t hal = {hal_scanner_write, hal_set_baud, hal_now_us, hal_out, &R};
+    TEST_ASSERT_EQUAL_INT(LMS_OK, ego_live_init(&R.live, lc, &hal, &R.ring));
+}
+
+/* True when bytes[0..n) end with a complete A0 telegram (the answer to a
+ * mode command such as the baud switch). */
+static bool ends_with_mode_reply(const uint8_t *bytes, size_t n)
+{
+    size_t off = 0u;
+    bool at_end = false;
+    for (size_t guard = 0u; guard <= n + LMS_FRAMER_BUF_SIZE; guard++) {
+        size_t used = 0u;
+        const lms_framer_event_t ev = lms_framer_feed(&R.side, bytes + off, n - off, &used);
+        off += used;
+        if (ev == LMS_FRAMER_NEED_MORE) {
+            break;
+        }
+        size_t len = 0u;
+        const uint8_t *t = lms_framer_telegram(&R.side, &len);
+        at_end = ev == LMS_FRAMER_TELEGRAM && off == n && t != NULL && len > LMS_HEADER_SIZE &&
+                 t[LMS_HEADER_SIZE] == LMS_REPLY_MODE;
+    }
+    return at_end;
+}
+
+/* The receive interrupt: what the simulator has put on the wire by now. */
+static void rig_receive(void)
+{
+    static uint8_t buf[512];
+    for (int guard = 0; guard < 64; guard++) {
+        const size_t n = lms_sim_transmit(&R.sim, R.host_baud, R.now, buf, sizeof buf);
+        (void)uart_ring_write(&R.ring, buf, n, (uint32_t)R.now);
+        if (R.junk_on_switch && ends_with_mode_reply(buf, n) &&
+            lms_session_state(ego_live_session(&R.live)) == LMS_SESSION_SWITCH) {
+            static uint8_t junk[JUNK];
+            memset(junk, 0x55, sizeof junk); /* never STX, ACK or NAK */
+            R.junk_sent += (uint32_t)uart_ring_write(&R.ring, junk, sizeof junk, (uint32_t)R.now);
+        }
+        /* The wire's own clock, for the tests to check the core's times. */
+        const uint32_t sent = lms_sim_stats(&R.sim)->scans_sent;
+        for (uint32_t i = 0u; i < sent && i < SCENE_MAX; i++) {
+            R.sent_us[i] = R.sent_us[i] == 0u ? R.now : R.sent_us[i];
+        }
+        if (n < sizeof buf) {
+            return;
+        }
+    }
+}
+
+/* Runs until the core is no longer RUNNING or `until` (absolute us). With
+ * step_every_us > 0 the main loop only runs that often (a loop busy
+ * elsewhere); the ring fills meanwhile. */
+static void rig_run(uint64_t until, uint32_t step_every_us)
+{
+    uint64_t next_step = R.now;
+    while (R.now < until && ego_live_status(&R.live) == EGO_LIVE_RUNNING) {
+        uint64_t step = RIG_STEP_US;
+        if (step_every_us == 0u) {
+            const uint32_t wait = ego_live_wait_us(&R.live);
+            step = wait < step ? wait : step;
+        }
+        const uint64_t sim_next = lms_sim_next_event_us(&R.sim, R.now);
+        if (sim_next != UINT64_MAX && sim_next - R.now < step) {
+            step = sim_next - R.now;
+        }
+        R.now += step == 0u ? 1u : step;
+        rig_receive();
+        if (R.now >= next_step) {
+            (void)ego_live_step(&R.live);
+            next_step = R.now + step_every_us;
+            if (R.first_streaming_us == 0u &&
+                lms_session_state(ego_live_session(&R.live)) == LMS_SESSION_STREAMING) {
+                R.first_streaming_us = R.now;
+            }
+        }
+    }
+}
+
+/* --- The reference: the replay loop over the same telegrams ------------- */
+
+typedef struct {
+    const uint8_t *bytes;
+    size_t len;
+    size_t pos;
+    char out[OUT_MAX];
+    size_t out_len;
+} replay_t;
+
+static replay_t P;
+static uint8_t replay_stream[SCENE_MAX * LMS_TELEGRAM_MAX];
+
+static int32_t replay_read(void *ctx, uint8_t *buf, size_t cap)
+{
+    replay_t *p = ctx;
+    if (p->pos >= p->len) {
+        return -1;
+    }
+    size_t n = p->len - p->pos;
+    n = n < cap ? n : cap;
+    memcpy(buf, p->bytes + p->pos, n);
+    p->pos += n;
+    return (int32_t)n;
+}
+
+static void replay_write(void *ctx, const uint8_t *buf, size_t len)
+{
+    replay_t *p = ctx;
+    TEST_ASSERT_TRUE(p->out_len + len < sizeof p->out);
+    memcpy(&p->out[p->out_len], buf, len);
+    p->out_len += len;
+    p->out[p->out_len] = '\0';
+}
+
+static uint32_t replay_now(void *ctx)
+{
+    (void)ctx;
+    return 0u;
+}
+
+/* `lmsego replay` of scene scans [from, to): ego_loop_step over the bytes,
+ * times from the scan index and the mode's period. */
+static const char *replay(uint32_t from, uint32_t to)
+{
+    static ego_loop_t loop;
+    static ego_loop_config_t config;
+    size_t len = 0u;
+    for (uint32_t i = from; i < to; i++) {
+        const telegram_t *t = scene_scan(i);
+        TEST_ASSERT_NOT_NULL(t);
+        memcpy(&replay_stream[len], t->bytes, t->len);
+        len += t->len;
+    }
+    memset(&P, 0, sizeof P);
+    P.bytes = replay_stream;
+    P.len = len;
+    ego_loop_defaults(&config);
+    ego_loop_init(&loop, &config);
+    const ego_hal_t hal = {replay_read, replay_write, replay_now, &P};
+    for (uint32_t guard = 0u; guard < 100000u; guard++) {
+        if (ego_loop_step(&loop, &hal) == EGO_LOOP_END) {
+            break;
+        }
+    }
+    TEST_ASSERT_EQUAL_UINT32(to - from, ego_loop_stats(&loop)->scans);
+    return P.out;
+}
+
+/* Line n (0 = the header) of a CSV text, without its newline, into buf. */
+static const char *csv_line(const char *text, unsigned n, char *buf, size_t cap)
+{
+    for (unsigned i = 0u; i < n && text != NULL; i++) {
+        text = strchr(text, '\n');
+        text = text != NULL ? text + 1 : NULL;
+    }
+    if (text == NULL || *text == '\0') {
+        return NULL;
+    }
+    size_t len = 0u;
+    while (text[len] != '\0' && text[len] != '\n' && len + 1u < cap) {
+        buf[len] = text[len];
+        len++;
+    }
+    buf[len] = '\0';
+    return buf;
+}
+
+/* The fields after the second comma: the motion, not scan index and time. */
+static const char *motion_fields(const char *line)
+{
+    const char *p = strchr(line, ',');
+    p = p != NULL ? strchr(p + 1, ',') : NULL;
+    return p != NULL ? p + 1 : "";
+}
+
+static unsigned long field(const char *line, unsigned n)
+{
+    for (unsigned i = 0u; i < n && line != NULL; i++) {
+        line = strchr(line, ',');
+        line = line != NULL ? line + 1 : NULL;
+    }
+    unsigned long v = 0u;
+    while (line != NULL && *line >= '0' && *line <= '9') {
+        v = v * 10u + (unsigned long)(*line - '0');
+        line++;
+    }
+    return v;
+}
+
+/* The time column in microseconds (six decimals). */
+static uint32_t time_us(const char *line)
+{
+    const char *p = strchr(line, ',');
+    uint32_t v = 0u;
+    for (p = p != NULL ? p + 1 : ""; *p != '\0' && *p != ','; p++) {
+        if (*p >= '0' && *p <= '9') {
+            v = v * 10u + (uint32_t)(*p - '0');
+        }
+    }
+    return v;
+}
+
+/* --- Tests ---------------------------------------------------------------- */
+
+/* 9600 at power-on, 500 kbaud wanted: streaming within 3 s, N scans, N - 1
+ * lines, then a clean stop that leaves the scanner at 9600; the CSV is the
+ * replay's, byte for byte. */
+static void test_ego_live_brings_up_streams_and_stops(void)
+{
+    enum { N = 30 };
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    lc.max_scans = N;
+    rig_init(&sc, &lc);
+    rig_run(R.now + 10u * SEC, 0u);
+    TEST_ASSERT_TRUE(R.first_streaming_us > 0u);
+    TEST_ASSERT_TRUE(R.first_streaming_us - 1000u < 3u * SEC);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_status(&R.live));
+    const ego_live_stats_t *st = ego_live_stats(&R.live);
+    const lms_session_stats_t *ss = lms_session_stats(ego_live_session(&R.live));
+    TEST_ASSERT_EQUAL_UINT32(N, st->scans);
+    TEST_ASSERT_EQUAL_UINT32(0u, st->gaps);
+    TEST_ASSERT_EQUAL_UINT32(1u, ss->bring_ups);
+    TEST_ASSERT_EQUAL_UINT32(0u, ss->restarts);
+    TEST_ASSERT_EQUAL_UINT32(1u, ss->baud_switches);
+    TEST_ASSERT_EQUAL_UINT32(N - 1u, ego_loop_stats(ego_live_loop(&R.live))->lines);
+    TEST_ASSERT_EQUAL_UINT32(0u, uart_ring_dropped(&R.ring));
+    TEST_ASSERT_FALSE(R.out_overflow);
+    /* Stopped cleanly: both ends back at 9600. */
+    TEST_ASSERT_EQUAL_INT(LMS_BAUD_9600, lms_sim_baud(&R.sim));
+    TEST_ASSERT_EQUAL_INT(LMS_BAUD_9600, R.host_baud);
+    TEST_ASSERT_TRUE(R.baud_sets >= 3u); /* probe at 500k, 9600, switch up, back down */
+    /* The same bytes as `lmsego replay` of the scans it got. */
+    TEST_ASSERT_EQUAL_STRING(replay(0u, N), R.out);
+}
+
+/* A power cycle after 15 scans (back at 9600, variant reset): the session
+ * notices, the core restarts the estimator (one line flagged FIRST), the
+ * scanner comes back at 500 kbaud, and the scans go on. Before the fault
+ * the lines are the replay's; after it, the motion of every line but the
+ * first is that of a replay starting at the first scan after the fault.
+ * The first line after the fault is later by the outage in whole scan
+ * intervals, counted from the times the bytes arrived, also when the main
+ * loop only runs every step_every_us. */
+static void power_cycle_run(uint32_t step_every_us)
+{
+    enum { N = 40, FAULT = 15 };
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    sc.faults.power_cycle_after_scans = FAULT;
+    lc.max_scans = N;
+    rig_init(&sc, &lc);
+    rig_run(R.now + 20u * SEC, step_every_us);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_status(&R.live));
+    const ego_live_stats_t *st = ego_live_stats(&R.live);
+    const lms_session_stats_t *ss = lms_session_stats(ego_live_session(&R.live));
+    TEST_ASSERT_EQUAL_UINT32(N, st->scans);
+    TEST_ASSERT_EQUAL_UINT32(1u, st->gaps);
+    TEST_ASSERT_EQUAL_UINT32(1u, ss->restarts);
+    TEST_ASSERT_EQUAL_UINT32(2u, ss->bring_ups);
+    TEST_ASSERT_EQUAL_UINT32(1u, lms_sim_stats(&R.sim)->power_cycles);
+    TEST_ASSERT_EQUAL_UINT32(0u, uart_ring_dropped(&R.ring));
+    const ego_loop_stats_t *ls = ego_loop_stats(ego_live_loop(&R.live));
+    TEST_ASSERT_EQUAL_UINT32(N - 1u, ls->lines);
+    TEST_ASSERT_EQUAL_UINT32(1u, ls->restarts);
+    TEST_ASSERT_EQUAL_INT(LMS_BAUD_9600, lms_sim_baud(&R.sim));
+
+    static char live_out[OUT_MAX];
+    memcpy(live_out, R.out, R.out_len + 1u);
+    char a[EGO_LOOP_LINE_MAX];
+    char b[EGO_LOOP_LINE_MAX];
+    char prev[EGO_LOOP_LINE_MAX];
+    /* Lines 1 .. FAULT - 1: scans 1 .. FAULT - 1, as the replay's. */
+    const char *before = replay(0u, FAULT);
+    for (unsigned i = 0u; i < FAULT; i++) {
+        TEST_ASSERT_NOT_NULL(csv_line(live_out, i, a, sizeof a));
+        TEST_ASSERT_NOT_NULL(csv_line(before, i, b, sizeof b));
+        TEST_ASSERT_EQUAL_STRING(b, a);
+    }
+    /* Line FAULT: the first scan after the restart, flagged. */
+    TEST_ASSERT_NOT_NULL(csv_line(live_out, FAULT, a, sizeof a));
+    TEST_ASSERT_NOT_NULL(csv_line(live_out, FAULT - 1u, prev, sizeof prev));
+    TEST_ASSERT_EQUAL_UINT32(FAULT, field(a, 0u));
+    TEST_ASSERT_TRUE((field(a, 8u) & EGO_FLAG_FIRST) != 0u);
+    /* Its time: the outage on the wire (the scanner's send times of the two
+     * scans) rounded to whole intervals. The arrival stamps are at most a
+     * rig step late when the loop keeps up; when it does not, a stamp may
+     * be that of the next telegram's first bytes in the same ring block
+     * (less than an interval later), never that of the loop's own time. */
+    const uint32_t interval = 13333u;
+    const uint32_t jump = time_us(a) - time_us(prev);
+    const uint32_t outage = (uint32_t)(R.sent_us[FAULT] - R.sent_us[FAULT - 1u]);
+    TEST_ASSERT_EQUAL_UINT32(0u, jump % interval);
+    TEST_ASSERT_TRUE(outage > 10u * interval); /* the power cycle takes about a second */
+    {
+        char msg[96];
+        const int32_t error = (int32_t)(jump - outage);
+        (void)snprintf(msg, sizeof msg, "loop every %u us: outage %u us, counted %u us (%+d)",
+                       (unsigned)step_every_us, (unsigned)outage, (unsigned)jump, (int)error);
+        TEST_MESSAGE(msg);
+    }
+    const uint32_t slack = interval / 2u + RIG_STEP_US + (step_every_us > 0u ? LATE_STAMP_US : 0u);
+    TEST_ASSERT_UINT_WITHIN(slack, outage, jump);
+    /* Lines FAULT + 1 .. N - 1 move as a replay of scans FAULT .. N - 1,
+     * one interval apart: nothing lost after the restart. */
+    const char *after = replay(FAULT, N);
+    for (unsigned i = FAULT + 1u; i < N; i++) {
+        TEST_ASSERT_NOT_NULL(csv_line(live_out, i, a, sizeof a));
+        TEST_ASSERT_NOT_NULL(csv_line(after, i - FAULT, b, sizeof b));
+        TEST_ASSERT_NOT_NULL(csv_line(live_out, i - 1u, prev, sizeof prev));
+        TEST_ASSERT_EQUAL_UINT32(i, field(a, 0u));
+        TEST_ASSERT_EQUAL_STRING(motion_fields(b), motion_fields(a));
+        TEST_ASSERT_EQUAL_UINT32(interval, time_us(a) - time_us(prev));
+    }
+    TEST_ASSERT_NULL(csv_line(live_out, N, a, sizeof a)); /* nothing more */
+}
+
+static void test_ego_live_recovers_after_power_cycle(void)
+{
+    power_cycle_run(0u);
+}
+
+/* The same with a main loop that only runs every 30 ms: the arrival
+ * stamps, not the time the loop got to the bytes, count the outage. */
+static void test_ego_live_recovers_after_power_cycle_late_loop(void)
+{
+    power_cycle_run(30000u);
+    power_cycle_run(50000u);
+}
+
+/* The main loop runs only every 40 ms (busy elsewhere): the ring holds
+ * three scans meanwhile, nothing is lost or restarted, and the CSV is still
+ * the replay's (the times count scan intervals, not when the loop ran). */
+static void test_ego_live_late_main_loop(void)
+{
+    enum { N = 25 };
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    lc.max_scans = N;
+    rig_init(&sc, &lc);
+    rig_run(R.now + 15u * SEC, 40000u);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_status(&R.live));
+    TEST_ASSERT_EQUAL_UINT32(N, ego_live_stats(&R.live)->scans);
+    TEST_ASSERT_EQUAL_UINT32(0u, lms_session_stats(ego_live_session(&R.live))->restarts);
+    TEST_ASSERT_EQUAL_UINT32(0u, uart_ring_dropped(&R.ring));
+    /* 40 ms at 75 Hz: three telegrams of 374 bytes at least once. */
+    TEST_ASSERT_TRUE(uart_ring_peak(&R.ring) >= 3u * 374u);
+    TEST_ASSERT_TRUE(uart_ring_peak(&R.ring) < UART_RING_SIZE);
+    TEST_ASSERT_EQUAL_STRING(replay(0u, N), R.out);
+}
+
+/* The bytes after the scanner's answer to the baud switch came at the old
+ * rate: what the ring still holds when the session changes the rate is
+ * dropped, not fed to the session (the rest of the chunk with the answer,
+ * at most UART_RING_STAMP_BYTES - 1 bytes, is fed: the session skips it). */
+static void test_ego_live_rate_change_drops_old_rate_bytes(void)
+{
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    lc.max_scans = 3u;
+    rig_init(&sc, &lc);
+    R.junk_on_switch = true;
+    rig_run(R.now + 10u * SEC, 0u);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_status(&R.live));
+    TEST_ASSERT_EQUAL_UINT32(3u, ego_live_stats(&R.live)->scans);
+    TEST_ASSERT_EQUAL_UINT32(1u, lms_session_stats(ego_live_session(&R.live))->baud_switches);
+    TEST_ASSERT_EQUAL_UINT32(JUNK, R.junk_sent);
+    const uint32_t dropped = ego_live_stats(&R.live)->bytes_discarded;
+    TEST_ASSERT_TRUE(dropped >= JUNK - (UART_RING_STAMP_BYTES - 1u));
+    TEST_ASSERT_TRUE(dropped <= JUNK);
+}
+
+/* A variant the scanner does not have: FAILED, no scan, no line. */
+static void test_ego_live_refused_setting_fails(void)
+{
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    sc.fixed_angle_deg = 180u;
+    sc.fixed_resolution_cdeg = 50u;
+    rig_init(&sc, &lc);
+    rig_run(R.now + 20u * SEC, 0u);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_FAILED, ego_live_status(&R.live));
+    TEST_ASSERT_EQUAL_INT(LMS_SESSION_ERR_VARIANT,
+                          lms_session_error(ego_live_session(&R.live)));
+    TEST_ASSERT_EQUAL_UINT32(0u, ego_live_stats(&R.live)->scans);
+    TEST_ASSERT_EQUAL_UINT(0u, R.out_len);
+    /* Once failed, a step does nothing. */
+    const uint32_t sent = lms_sim_stats(&R.sim)->host_telegrams;
+    R.now += SEC;
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_FAILED, ego_live_step(&R.live));
+    TEST_ASSERT_EQUAL_UINT32(sent, lms_sim_stats(&R.sim)->host_telegrams);
+}
+
+/* Init: missing pieces are refused; bytes waiting from before are
+ * discarded; a stop before the scanner was found stops at once. */
+static void test_ego_live_init_checks_and_early_stop(void)
+{
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    memset(&R, 0, sizeof R);
+    uart_ring_init(&R.ring);
+    ego_live_hal_t hal = {hal_scanner_write, hal_set_baud, hal_now_us, hal_out, &R};
+    ego_live_hal_t bad = hal;
+    bad.out_write = NULL;
+    TEST_ASSERT_EQUAL_INT(LMS_ERR_ARG, ego_live_init(&R.live, &lc, &bad, &R.ring));
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_FAILED, ego_live_status(&R.live));
+    TEST_ASSERT_EQUAL_INT(LMS_ERR_ARG, ego_live_init(&R.live, &lc, &hal, NULL));
+    ego_live_config_t wrong = lc;
+    wrong.session.retries = 0u;
+    TEST_ASSERT_EQUAL_INT(LMS_ERR_ARG, ego_live_init(&R.live, &wrong, &hal, &R.ring));
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_FAILED, ego_live_step(&R.live));
+
+    const uint8_t stale[7] = {1u, 2u, 3u, 4u, 5u, 6u, 7u};
+    (void)uart_ring_write(&R.ring, stale, sizeof stale, 1u);
+    lms_sim_init(&R.sim, &sc, 0u);
+    R.host_baud = LMS_BAUD_9600;
+    TEST_ASSERT_EQUAL_INT(LMS_OK, ego_live_init(&R.live, &lc, &hal, &R.ring));
+    TEST_ASSERT_EQUAL_UINT(0u, uart_ring_count(&R.ring));
+    TEST_ASSERT_EQUAL_UINT32(7u, ego_live_stats(&R.live)->bytes_discarded);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_RUNNING, ego_live_step(&R.live));
+    ego_live_stop(&R.live);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_step(&R.live));
+    TEST_ASSERT_EQUAL_UINT(0u, R.out_len);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_ego_live_brings_up_streams_and_stops);
+    RUN_TEST(test_ego_live_recovers_after_power_cycle);
+    RUN_TEST(test_ego_live_recovers_after_power_cycle_late_loop);
+    RUN_TEST(test_ego_live_late_main_loop);
+    RUN_TEST(test_ego_live_rate_change_drops_old_rate_bytes);
+    RUN_TEST(test_ego_live_refused_setting_fails);
+    RUN_TEST(test_ego_live_init_checks_and_early_stop);
+    return UNITY_END();
+}
