@@ -69,35 +69,52 @@ static bool has_full_window(const ego_scan_t *scan, uint16_t i, uint8_t n)
     return true;
 }
 
-/* Distance of P[j] from the line through P[i] with direction (c, s):
- * (y_j - y_i) c - (x_j - x_i) s. */
-static fx_q16_16_t line_offset(const ego_scan_t *scan, uint16_t i, uint16_t j, fx_q2_30_t s,
-                               fx_q2_30_t c)
+/* The window of eq. 7 around P[i]: P[i - n] .. P[i + n] relative to P[i],
+ * computed once per point for all the directions tested. */
+typedef struct {
+    uint16_t count; /* 2 n + 1 */
+    fx_q16_16_t rx[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u];
+    fx_q16_16_t ry[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u];
+} window_t;
+
+/* False when n is 0 or above EGO_TFIT_MAX_HALF_WINDOW (no window). */
+static bool window_of(const ego_scan_t *scan, uint16_t i, uint8_t n, window_t *w)
 {
-    const fx_q16_16_t rx = fx_sub_q16(scan->x[j], scan->x[i]);
-    const fx_q16_16_t ry = fx_sub_q16(scan->y[j], scan->y[i]);
-    return fx_sub_q16(fx_mul_q16_q30(ry, c), fx_mul_q16_q30(rx, s));
+    if (n == 0u || n > EGO_TFIT_MAX_HALF_WINDOW) {
+        return false;
+    }
+    memset(w, 0, sizeof *w); /* once per point; the slots past count stay 0 */
+    w->count = (uint16_t)(2u * n + 1u);
+    for (uint16_t k = 0u; k < w->count; k++) {
+        const uint16_t j = (uint16_t)(i - n + k);
+        w->rx[k] = fx_sub_q16(scan->x[j], scan->x[i]);
+        w->ry[k] = fx_sub_q16(scan->y[j], scan->y[i]);
+    }
+    return true;
+}
+
+/* Distance of window point k from the line through P[i] with direction
+ * (c, s): ry c - rx s. */
+static fx_q16_16_t line_offset(const window_t *w, uint16_t k, fx_q2_30_t s, fx_q2_30_t c)
+{
+    return fx_sub_q16(fx_mul_q16_q30(w->ry[k], c), fx_mul_q16_q30(w->rx[k], s));
 }
 
 /* Eq. 7 for the line through P[i] along the centre of bin b: every point
  * of the window within t_line of the band's middle (the mean of the two
- * end offsets). No array of offsets: zeroing one per bin tested costs more
- * than computing the two ends twice. */
-static bool is_collinear(const ego_scan_t *scan, uint16_t i, uint8_t n, fx_q16_16_t t_line,
-                         uint16_t b)
+ * end offsets). */
+static bool band_holds(const window_t *w, fx_q16_16_t t_line, uint16_t b)
 {
-    if (n > EGO_TFIT_MAX_HALF_WINDOW) {
-        return false;
-    }
     fx_q2_30_t s;
     fx_q2_30_t c;
     fx_sincos(hist_bin_centre(b), &s, &c);
-    const uint16_t first = (uint16_t)(i - n);
-    const uint16_t last = (uint16_t)(i + n);
-    const int64_t mid2 = (int64_t)line_offset(scan, i, first, s, c) +
-                         line_offset(scan, i, last, s, c); /* 2 d' */
-    for (uint16_t j = first; j <= last; j++) {
-        const int64_t dev2 = 2 * (int64_t)line_offset(scan, i, j, s, c) - mid2;
+    const uint16_t last = (uint16_t)(w->count - 1u);
+    const fx_q16_16_t d_first = line_offset(w, 0u, s, c);
+    const fx_q16_16_t d_last = line_offset(w, last, s, c);
+    const int64_t mid2 = (int64_t)d_first + d_last; /* 2 d' */
+    for (uint16_t k = 0u; k <= last; k++) {
+        const fx_q16_16_t d = (k == 0u) ? d_first : (k == last) ? d_last : line_offset(w, k, s, c);
+        const int64_t dev2 = 2 * (int64_t)d - mid2;
         if (dev2 > 2 * (int64_t)t_line || dev2 < -2 * (int64_t)t_line) {
             return false;
         }
@@ -118,7 +135,8 @@ static uint16_t bin_step(uint16_t b, int direction)
 static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_t *p, hist_t *h)
 {
     const uint16_t start = hist_bin_of(scan->tangent[i]);
-    if (!is_collinear(scan, i, p->half_window, p->t_line, start)) {
+    window_t w;
+    if (!window_of(scan, i, p->half_window, &w) || !band_holds(&w, p->t_line, start)) {
         return 0u;
     }
     h->bin[start]++;
@@ -126,7 +144,7 @@ static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_
     uint16_t up = start;
     for (;;) { /* upwards */
         const uint16_t next = bin_step(up, +1);
-        if (next == start || !is_collinear(scan, i, p->half_window, p->t_line, next)) {
+        if (next == start || !band_holds(&w, p->t_line, next)) {
             break;
         }
         h->bin[next]++;
@@ -136,7 +154,7 @@ static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_
     uint16_t down = start;
     for (;;) { /* downwards, not into the upward run */
         const uint16_t next = bin_step(down, -1);
-        if (next == up || !is_collinear(scan, i, p->half_window, p->t_line, next)) {
+        if (next == up || !band_holds(&w, p->t_line, next)) {
             break;
         }
         h->bin[next]++;
@@ -167,12 +185,13 @@ uint32_t hist_build(const ego_scan_t *scan, const hist_params_t *params, hist_t 
         break;
     case HIST_HAH:
         for (uint16_t i = 0u; i < scan->count; i++) {
-            if (!has_full_window(scan, i, n)) {
+            window_t w;
+            if (!has_full_window(scan, i, n) || !window_of(scan, i, n, &w)) {
                 continue;
             }
             for (uint16_t b = 0u; b < HIST_BINS; b++) {
                 if ((params->aoi == NULL || params->aoi[b] != 0u) &&
-                    is_collinear(scan, i, n, params->t_line, b)) {
+                    band_holds(&w, params->t_line, b)) {
                     h->bin[b]++;
                     votes++;
                 }

@@ -161,18 +161,39 @@ typedef struct {
     uint64_t radius_sq;
 } target_t;
 
-/* Is (qx, qy) farther than limit (per axis, so this is cheap) from the
- * box spanned by points a and b: then the closest point of the segment
- * between them (which lies in the box, rounding included) is too. */
-static bool outside_box(const ego_scan_t *l, uint16_t a, uint16_t b, fx_q16_16_t qx,
-                        fx_q16_16_t qy, int64_t limit)
+/* The square of half-width radius around the target, as int32 bounds
+ * (clamped: a bound past the int32 range excludes nothing there). */
+typedef struct {
+    int32_t lo_x;
+    int32_t hi_x;
+    int32_t lo_y;
+    int32_t hi_y;
+} square_t;
+
+static int32_t clamp_s32(int64_t v)
 {
-    const fx_q16_16_t x0 = (l->x[a] < l->x[b]) ? l->x[a] : l->x[b];
-    const fx_q16_16_t x1 = (l->x[a] < l->x[b]) ? l->x[b] : l->x[a];
-    const fx_q16_16_t y0 = (l->y[a] < l->y[b]) ? l->y[a] : l->y[b];
-    const fx_q16_16_t y1 = (l->y[a] < l->y[b]) ? l->y[b] : l->y[a];
-    return (int64_t)x0 - qx > limit || (int64_t)qx - x1 > limit || (int64_t)y0 - qy > limit ||
-           (int64_t)qy - y1 > limit;
+    return (v > INT32_MAX) ? INT32_MAX : (v < INT32_MIN) ? INT32_MIN : (int32_t)v;
+}
+
+static square_t square_around(fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t radius)
+{
+    const square_t sq = {clamp_s32((int64_t)x - radius), clamp_s32((int64_t)x + radius),
+                         clamp_s32((int64_t)y - radius), clamp_s32((int64_t)y + radius)};
+    return sq;
+}
+
+/* Do points a and b both lie beyond one side of the square? Then so does
+ * every point between them, the closest point of their segment included
+ * (it lies in their box, rounding included): farther than the radius on
+ * one axis. */
+static bool outside_square(const ego_scan_t *l, uint16_t a, uint16_t b, const square_t *sq)
+{
+    const int32_t xa = l->x[a];
+    const int32_t xb = l->x[b];
+    const int32_t ya = l->y[a];
+    const int32_t yb = l->y[b];
+    return (xa < sq->lo_x && xb < sq->lo_x) || (xa > sq->hi_x && xb > sq->hi_x) ||
+           (ya < sq->lo_y && yb < sq->lo_y) || (ya > sq->hi_y && yb > sq->hi_y);
 }
 
 /* Considers point j of the last scan and, if it is a surface, its segment
@@ -343,20 +364,25 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
      * product or division (consider accepts nothing outside the box of a
      * point and its successor, which holds the point and its segment). */
     const uint16_t end = (uint16_t)(l->count - 1u);
+    const square_t sq = square_around(t.x, t.y, m->radius);
+    /* The cone's bearing limits in int32 (bearings relative to ref are
+     * int32; a limit past that range stops nothing). */
+    const int32_t above = clamp_s32(q->rel + cone);
+    const int32_t below = clamp_s32(q->rel - cone);
     for (uint16_t j = q->j0, k = 0u; j < l->count && k < ITCP_MAX_WALK; j++, k++) {
-        if ((int64_t)fx_bam32_diff(l->bearing[j], m->ref) > q->rel + cone) {
+        if (fx_bam32_diff(l->bearing[j], m->ref) > above) {
             break;
         }
-        if (!outside_box(l, j, (j < end) ? (uint16_t)(j + 1u) : j, t.x, t.y, m->radius)) {
+        if (!outside_square(l, j, (j < end) ? (uint16_t)(j + 1u) : j, &sq)) {
             consider(m, &t, j, &best);
         }
     }
     for (uint16_t j = q->j0, k = 0u; j > 0u && k < ITCP_MAX_WALK; k++) {
         j--;
-        if ((int64_t)fx_bam32_diff(l->bearing[j + 1u], m->ref) < q->rel - cone) {
+        if (fx_bam32_diff(l->bearing[j + 1u], m->ref) < below) {
             break;
         }
-        if (!outside_box(l, j, (j < end) ? (uint16_t)(j + 1u) : j, t.x, t.y, m->radius)) {
+        if (!outside_square(l, j, (j < end) ? (uint16_t)(j + 1u) : j, &sq)) {
             consider(m, &t, j, &best);
         }
     }
