@@ -75,7 +75,29 @@ typedef struct {
     uint16_t count; /* 2 n + 1 */
     fx_q16_16_t rx[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u];
     fx_q16_16_t ry[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u];
+    uint32_t drift_per_bin; /* most any deviation 2 d_k - (d_first + d_last) can
+                               change from one bin centre to the next, Q16.16;
+                               UINT32_MAX: no bins are skipped (see band_test) */
 } window_t;
+
+/* Skipping bins in the HTAH walk (band_test). The deviation of window point
+ * k from the band's middle at direction phi, in real numbers, is
+ *   D_k(phi) = A_k cos(phi) - B_k sin(phi),
+ *   A_k = 2 ry_k - ry_first - ry_last,  B_k = 2 rx_k - rx_first - rx_last,
+ * so it changes by at most (|A_k| + |B_k|) |dphi|. Neighbouring bin
+ * centres are at most 2386093 binary-angle units apart (2^31 / HIST_BINS,
+ * rounded up), 0.0034907 rad: bounded by BIN_STEP_PPM micro-radians. The
+ * fixed-point deviation that band_test computes is within 4.2 LSB of D_k
+ * (each product rounds by 0.5 LSB, the sine and cosine are within 0.76
+ * LSB of Q2.30, coordinates below 2^24: 1.03 LSB per offset, four offsets
+ * per deviation), so a bin whose largest deviation leaves slack below the
+ * band's half-width guarantees that the next slack / drift_per_bin bins on
+ * either side pass too, with DEVIATION_ERROR (twice 4.2, rounded up) kept
+ * aside: they are counted without being computed, and the votes are
+ * exactly those of testing every bin. */
+#define BIN_STEP_PPM 3492u
+#define DEVIATION_ERROR 10
+#define SKIP_COORD_LIMIT ((int32_t)1 << 24)
 
 /* False when n is 0 or above EGO_TFIT_MAX_HALF_WINDOW (no window). */
 static bool window_of(const ego_scan_t *scan, uint16_t i, uint8_t n, window_t *w)
@@ -85,11 +107,25 @@ static bool window_of(const ego_scan_t *scan, uint16_t i, uint8_t n, window_t *w
     }
     memset(w, 0, sizeof *w); /* once per point; the slots past count stay 0 */
     w->count = (uint16_t)(2u * n + 1u);
+    bool small = true;
     for (uint16_t k = 0u; k < w->count; k++) {
         const uint16_t j = (uint16_t)(i - n + k);
         w->rx[k] = fx_sub_q16(scan->x[j], scan->x[i]);
         w->ry[k] = fx_sub_q16(scan->y[j], scan->y[i]);
+        small = small && w->rx[k] > -SKIP_COORD_LIMIT && w->rx[k] < SKIP_COORD_LIMIT &&
+                w->ry[k] > -SKIP_COORD_LIMIT && w->ry[k] < SKIP_COORD_LIMIT;
     }
+    const uint16_t last = (uint16_t)(w->count - 1u);
+    int64_t most = 0;
+    for (uint16_t k = 0u; k < w->count; k++) {
+        const int64_t a = 2 * (int64_t)w->ry[k] - w->ry[0] - w->ry[last];
+        const int64_t b = 2 * (int64_t)w->rx[k] - w->rx[0] - w->rx[last];
+        const int64_t change = ((a < 0) ? -a : a) + ((b < 0) ? -b : b);
+        most = (change > most) ? change : most;
+    }
+    /* Rounded up; below 2^27 * 3492 / 10^6 for coordinates below 2^24. */
+    w->drift_per_bin =
+        small ? (uint32_t)((most * BIN_STEP_PPM + 999999) / 1000000) : UINT32_MAX;
     return true;
 }
 
@@ -102,9 +138,11 @@ static fx_q16_16_t line_offset(const window_t *w, uint16_t k, fx_q2_30_t s, fx_q
 
 /* Eq. 7 for the line through P[i] along the centre of bin b: every point
  * of the window within t_line of the band's middle (the mean of the two
- * end offsets). */
-static bool band_holds(const window_t *w, fx_q16_16_t t_line, uint16_t b)
+ * end offsets). When it holds, *skip gets how many bins on either side
+ * are sure to hold as well (see BIN_STEP_PPM; 0 when none are). */
+static bool band_test(const window_t *w, fx_q16_16_t t_line, uint16_t b, uint32_t *skip)
 {
+    *skip = 0u;
     fx_q2_30_t s;
     fx_q2_30_t c;
     fx_sincos(hist_bin_centre(b), &s, &c);
@@ -112,14 +150,28 @@ static bool band_holds(const window_t *w, fx_q16_16_t t_line, uint16_t b)
     const fx_q16_16_t d_first = line_offset(w, 0u, s, c);
     const fx_q16_16_t d_last = line_offset(w, last, s, c);
     const int64_t mid2 = (int64_t)d_first + d_last; /* 2 d' */
+    const int64_t limit = 2 * (int64_t)t_line;
+    int64_t worst = 0;
     for (uint16_t k = 0u; k <= last; k++) {
         const fx_q16_16_t d = (k == 0u) ? d_first : (k == last) ? d_last : line_offset(w, k, s, c);
         const int64_t dev2 = 2 * (int64_t)d - mid2;
-        if (dev2 > 2 * (int64_t)t_line || dev2 < -2 * (int64_t)t_line) {
+        const int64_t size = (dev2 < 0) ? -dev2 : dev2;
+        if (size > limit) {
             return false;
         }
+        worst = (size > worst) ? size : worst;
+    }
+    const int64_t slack = limit - worst - DEVIATION_ERROR;
+    if (slack > 0 && w->drift_per_bin != UINT32_MAX) {
+        *skip = (w->drift_per_bin == 0u) ? HIST_BINS : (uint32_t)(slack / w->drift_per_bin);
     }
     return true;
+}
+
+static bool band_holds(const window_t *w, fx_q16_16_t t_line, uint16_t b)
+{
+    uint32_t skip;
+    return band_test(w, t_line, b, &skip);
 }
 
 static uint16_t bin_step(uint16_t b, int direction)
@@ -131,20 +183,28 @@ static uint16_t bin_step(uint16_t b, int direction)
 }
 
 /* HTAH votes of point i: the contiguous run of passing bins around its
- * tangent. At most HIST_BINS tests. */
+ * tangent. At most HIST_BINS bins; the bins band_test vouches for are
+ * counted without being tested. */
 static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_t *p, hist_t *h)
 {
     const uint16_t start = hist_bin_of(scan->tangent[i]);
     window_t w;
-    if (!window_of(scan, i, p->half_window, &w) || !band_holds(&w, p->t_line, start)) {
+    uint32_t start_skip = 0u;
+    if (!window_of(scan, i, p->half_window, &w) || !band_test(&w, p->t_line, start, &start_skip)) {
         return 0u;
     }
     h->bin[start]++;
     uint32_t votes = 1u;
     uint16_t up = start;
+    uint32_t skip = start_skip;
     for (;;) { /* upwards */
         const uint16_t next = bin_step(up, +1);
-        if (next == start || !band_holds(&w, p->t_line, next)) {
+        if (next == start) {
+            break;
+        }
+        if (skip > 0u) {
+            skip--;
+        } else if (!band_test(&w, p->t_line, next, &skip)) {
             break;
         }
         h->bin[next]++;
@@ -152,9 +212,15 @@ static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_
         up = next;
     }
     uint16_t down = start;
+    skip = start_skip;
     for (;;) { /* downwards, not into the upward run */
         const uint16_t next = bin_step(down, -1);
-        if (next == up || !band_holds(&w, p->t_line, next)) {
+        if (next == up) {
+            break;
+        }
+        if (skip > 0u) {
+            skip--;
+        } else if (!band_test(&w, p->t_line, next, &skip)) {
             break;
         }
         h->bin[next]++;

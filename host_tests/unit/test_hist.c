@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "fx_host.h"
+#include "fx_math.h"
 #include "hist.h"
 #include "synth_scan.h"
 #include "tfit.h"
@@ -311,6 +312,101 @@ static void test_hist_correlation_of_sparse_and_dense_histograms(void)
     }
 }
 
+/* Eq. 7 in the estimator's own fixed-point steps, bin by bin, with
+ * nothing skipped: the oracle of the HTAH walk. */
+static bool ref_band_holds(const ego_scan_t *scan, uint16_t i, unsigned n, fx_q16_16_t t_line,
+                           uint16_t b)
+{
+    fx_q2_30_t sn;
+    fx_q2_30_t cs;
+    fx_sincos(hist_bin_centre(b), &sn, &cs);
+    fx_q16_16_t d[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u];
+    for (unsigned k = 0u; k < 2u * n + 1u; k++) {
+        const fx_q16_16_t rx = fx_sub_q16(scan->x[i - n + k], scan->x[i]);
+        const fx_q16_16_t ry = fx_sub_q16(scan->y[i - n + k], scan->y[i]);
+        d[k] = fx_sub_q16(fx_mul_q16_q30(ry, cs), fx_mul_q16_q30(rx, sn));
+    }
+    const int64_t mid2 = (int64_t)d[0] + d[2u * n];
+    for (unsigned k = 0u; k < 2u * n + 1u; k++) {
+        const int64_t dev2 = 2 * (int64_t)d[k] - mid2;
+        if (dev2 > 2 * (int64_t)t_line || dev2 < -2 * (int64_t)t_line) {
+            return false;
+        }
+    }
+    return true;
+}
+
+static void ref_htah(const ego_scan_t *scan, unsigned n, fx_q16_16_t t_line, hist_t *h)
+{
+    memset(h, 0, sizeof *h);
+    for (uint16_t i = 0u; i < scan->count; i++) {
+        bool full = (scan->flags[i] & EGO_POINT_HAS_TANGENT) != 0u && i >= n &&
+                    (unsigned)i + n < scan->count;
+        for (unsigned j = i - n; full && j < i + n; j++) {
+            full = ego_scan_linked(scan, (uint16_t)j);
+        }
+        const uint16_t start = hist_bin_of(scan->tangent[i]);
+        if (!full || !ref_band_holds(scan, i, n, t_line, start)) {
+            continue;
+        }
+        h->bin[start]++;
+        uint16_t up = start;
+        for (;;) {
+            const uint16_t next = (uint16_t)((up + 1u) % HIST_BINS);
+            if (next == start || !ref_band_holds(scan, i, n, t_line, next)) {
+                break;
+            }
+            h->bin[next]++;
+            up = next;
+        }
+        uint16_t down = start;
+        for (;;) {
+            const uint16_t next = (uint16_t)((down + HIST_BINS - 1u) % HIST_BINS);
+            if (next == up || !ref_band_holds(scan, i, n, t_line, next)) {
+                break;
+            }
+            h->bin[next]++;
+            down = next;
+        }
+    }
+}
+
+/* The HTAH walk counts the bins it is sure of without testing them: the
+ * votes must be exactly those of testing every bin, for narrow and wide
+ * bands, short and long windows, near and far scans. */
+static void test_hist_htah_skips_nothing_it_should_test(void)
+{
+    static hist_t reference;
+    const double places[][3] = {{0.0, 0.0, 0.0}, {0.5, -0.3, 10.0}, {-4.0, 2.0, 95.0},
+                                {8.0, -4.0, 200.0}};
+    const double bands[] = {0.005, 0.02, 0.05, 0.2, 1.0};
+    unsigned compared = 0u;
+    uint32_t votes = 0u;
+    for (unsigned pl = 0u; pl < 4u; pl++) {
+        for (unsigned count = 181u; count <= 361u; count += 180u) {
+            room_scan(places[pl][0], places[pl][1], places[pl][2], count, &g_current);
+            for (unsigned bi = 0u; bi < 5u; bi++) {
+                for (uint8_t n = 1u; n <= EGO_TFIT_MAX_HALF_WINDOW; n += 2u) {
+                    hist_params_t p;
+                    hist_defaults(&p);
+                    p.kind = HIST_HTAH;
+                    p.half_window = n;
+                    p.t_line = fx_q16_16_from_double(bands[bi]);
+                    votes += hist_build(&g_current, &p, &g_hc);
+                    ref_htah(&g_current, n, p.t_line, &reference);
+                    TEST_ASSERT_EQUAL_MEMORY(reference.bin, g_hc.bin, sizeof reference.bin);
+                    compared++;
+                }
+            }
+        }
+    }
+    char msg[64];
+    (void)snprintf(msg, sizeof msg, "%u histograms, %lu votes", compared, (unsigned long)votes);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_EQUAL_UINT32(120u, compared);
+    TEST_ASSERT_TRUE(votes > 100000u);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -322,5 +418,6 @@ int main(void)
     RUN_TEST(test_hist_correlation_of_a_shifted_copy);
     RUN_TEST(test_hist_correlation_around_a_centre);
     RUN_TEST(test_hist_correlation_of_sparse_and_dense_histograms);
+    RUN_TEST(test_hist_htah_skips_nothing_it_should_test);
     return UNITY_END();
 }
