@@ -91,6 +91,10 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
     live->hal = *hal;
     live->rx = rx;
     live->max_scans = config->max_scans;
+    live->deferred = config->deferred;
+    live->write_slot = 0u;
+    atomic_init(&live->middle, 1u);
+    live->read_slot = 2u;
     ego_live_clock_init(&live->clock);
     live->loop_hal.read = NULL; /* ego_loop_telegram only writes */
     live->loop_hal.write = hal->out_write;
@@ -108,6 +112,37 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
     return LMS_OK;
 }
 
+/* The mailbox's index byte: the middle slot, and whether it is fresh. */
+#define EGO_LIVE_FRESH 0x4u
+#define EGO_LIVE_SLOT_MASK 0x3u
+
+/* Deferred mode, producer: the scan into the slot it owns, then that slot
+ * made the middle one by one atomic exchange; the slot it gets back is
+ * its own from now on (a fresh one there was never taken: skipped). Runs
+ * where the consumer cannot (an interrupt), so reading the middle slot's
+ * gap flag first is safe. */
+static void publish(ego_live_t *live, const uint8_t *t, size_t len, uint32_t t_us)
+{
+    ego_live_slot_t *slot = &live->slot[live->write_slot];
+    const size_t n = len < sizeof slot->bytes ? len : sizeof slot->bytes;
+    memcpy(slot->bytes, t, n);
+    slot->len = (uint16_t)n;
+    slot->time_us = t_us;
+    slot->gap = live->gap_pending;
+    live->gap_pending = false;
+    const unsigned waiting = (unsigned)atomic_load(&live->middle);
+    if ((waiting & EGO_LIVE_FRESH) != 0u) {
+        /* The scan it replaces had a restart before it: so has this one. */
+        slot->gap = slot->gap || live->slot[waiting & EGO_LIVE_SLOT_MASK].gap;
+    }
+    const unsigned before =
+        (unsigned)atomic_exchange(&live->middle, (uint_fast8_t)(live->write_slot | EGO_LIVE_FRESH));
+    live->write_slot = (uint8_t)(before & EGO_LIVE_SLOT_MASK);
+    if ((before & EGO_LIVE_FRESH) != 0u) {
+        live->stats.scans_skipped++;
+    }
+}
+
 /* One event of the session, at time now_us. */
 static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
 {
@@ -121,14 +156,22 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
             break;
         }
         live->stats.scans++;
-        ego_loop_telegram(&live->loop, &live->loop_hal, t, len, t_us);
+        if (live->deferred) {
+            publish(live, t, len, t_us);
+        } else {
+            ego_loop_telegram(&live->loop, &live->loop_hal, t, len, t_us);
+        }
         if (live->max_scans != 0u && live->stats.scans == live->max_scans) {
             lms_session_stop(&live->session, now_us); /* no B0 is reported after this */
         }
         break;
     }
     case LMS_SESSION_EV_RESTART:
-        ego_loop_gap(&live->loop);
+        if (live->deferred) {
+            live->gap_pending = true; /* travels with the next scan */
+        } else {
+            ego_loop_gap(&live->loop);
+        }
         ego_live_clock_restart(&live->clock);
         live->stats.gaps++;
         break;
@@ -166,12 +209,17 @@ static void feed_chunk(ego_live_t *live, size_t n, uint32_t arrival_us)
     }
 }
 
-ego_live_status_t ego_live_step(ego_live_t *live)
+/* Everything but the estimator (deferred mode) or everything (not). */
+static void service(ego_live_t *live)
 {
     if (live->status != EGO_LIVE_RUNNING) {
-        return live->status;
+        return;
     }
     live->stats.steps++;
+    if (live->stop_requested) {
+        live->stop_requested = false;
+        lms_session_stop(&live->session, live->hal.now_us(live->hal.ctx));
+    }
     /* Only what is waiting now: a babbling line cannot starve the timers. */
     size_t budget = uart_ring_count(live->rx);
     while (budget > 0u && live->status == EGO_LIVE_RUNNING) {
@@ -194,12 +242,46 @@ ego_live_status_t ego_live_step(ego_live_t *live)
         }
         on_event(live, ev, now);
     }
+}
+
+void ego_live_service(ego_live_t *live)
+{
+    service(live);
+}
+
+bool ego_live_estimate(ego_live_t *live)
+{
+    if (!live->deferred ||
+        ((unsigned)atomic_load(&live->middle) & EGO_LIVE_FRESH) == 0u) {
+        return false;
+    }
+    /* The fresh middle slot becomes ours; ours becomes the middle (not
+     * fresh), for the producer to fill next. */
+    const unsigned got = (unsigned)atomic_exchange(&live->middle, (uint_fast8_t)live->read_slot);
+    live->read_slot = (uint8_t)(got & EGO_LIVE_SLOT_MASK);
+    const ego_live_slot_t *slot = &live->slot[live->read_slot];
+    if (slot->gap) {
+        ego_loop_gap(&live->loop);
+    }
+    ego_loop_telegram(&live->loop, &live->loop_hal, slot->bytes, slot->len, slot->time_us);
+    live->stats.scans_estimated++;
+    return true;
+}
+
+ego_live_status_t ego_live_step(ego_live_t *live)
+{
+    service(live);
+    if (live->deferred) {
+        (void)ego_live_estimate(live);
+    }
     return live->status;
 }
 
 uint32_t ego_live_wait_us(const ego_live_t *live)
 {
-    if (live->status != EGO_LIVE_RUNNING || uart_ring_count(live->rx) > 0u) {
+    if (live->status != EGO_LIVE_RUNNING || uart_ring_count(live->rx) > 0u ||
+        live->stop_requested ||
+        ((unsigned)atomic_load(&live->middle) & EGO_LIVE_FRESH) != 0u) {
         return 0u;
     }
     return lms_session_wait_us(&live->session, live->hal.now_us(live->hal.ctx));
@@ -207,7 +289,12 @@ uint32_t ego_live_wait_us(const ego_live_t *live)
 
 void ego_live_stop(ego_live_t *live)
 {
-    if (live->status == EGO_LIVE_RUNNING) {
+    if (live->status != EGO_LIVE_RUNNING) {
+        return;
+    }
+    if (live->deferred) {
+        live->stop_requested = true; /* the session belongs to ego_live_service */
+    } else {
         lms_session_stop(&live->session, live->hal.now_us(live->hal.ctx));
     }
 }

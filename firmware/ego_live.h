@@ -36,6 +36,7 @@
 #ifndef EGO_LIVE_H
 #define EGO_LIVE_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -68,6 +69,9 @@ typedef struct {
     lms_session_config_t session;
     ego_loop_config_t loop;   /* use_clock is forced on: scan times from the session */
     uint32_t max_scans;       /* stop cleanly after this many scans; 0: never */
+    bool deferred;            /* false: ego_live_step estimates every scan as it comes;
+                                 true: the newest scan waits for ego_live_estimate
+                                 (see "Deferred mode" below) */
 } ego_live_config_t;
 
 /* Session defaults (500 kbaud, scanner's variant and units kept), loop
@@ -101,10 +105,25 @@ typedef struct {
     uint32_t steps;
     uint32_t bytes;           /* fed to the session */
     uint32_t bytes_discarded; /* dropped from the ring: at init, at a rate change */
-    uint32_t scans;           /* handed to the loop */
+    uint32_t scans;           /* handed to the loop (deferred: to the mailbox) */
     uint32_t scans_ignored;   /* reported after max_scans */
     uint32_t gaps;            /* restarts passed to the loop */
+    uint32_t scans_skipped;   /* deferred: replaced in the mailbox by a newer scan */
+    uint32_t scans_estimated; /* deferred: taken by ego_live_estimate */
 } ego_live_stats_t;
+
+/* Deferred mode: one scan waiting for the estimator, with its time and
+ * whether a restart came before it. Three of them make a lock-free
+ * "newest value" mailbox between ego_live_service (producer: an interrupt)
+ * and ego_live_estimate (consumer: the main loop). */
+typedef struct {
+    uint8_t bytes[LMS_TELEGRAM_MAX];
+    uint16_t len;
+    bool gap;
+    uint32_t time_us;
+} ego_live_slot_t;
+
+#define EGO_LIVE_SLOTS 3u
 
 typedef struct {
     /* Private. */
@@ -118,6 +137,17 @@ typedef struct {
     lms_session_t session;
     ego_loop_t loop;
     uint8_t chunk[EGO_LIVE_CHUNK];
+    /* Deferred mode: the producer owns slot[write_slot], the consumer
+     * slot[read_slot], and `middle` (the third slot's index, plus
+     * EGO_LIVE_FRESH when it holds a scan not yet taken) changes hands by
+     * atomic exchange only, so the two never touch the same slot. */
+    bool deferred;
+    ego_live_slot_t slot[EGO_LIVE_SLOTS];
+    atomic_uint_fast8_t middle;
+    uint8_t write_slot;
+    uint8_t read_slot;
+    bool gap_pending;         /* producer: a restart since the last scan published */
+    volatile bool stop_requested;
 } ego_live_t;
 
 /* Starts the session now (hal.now_us) and the loop. rx is the ring the
@@ -136,6 +166,24 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
  * timers at hal.now_us. Returns the status; once STOPPED or FAILED it
  * does nothing more. */
 ego_live_status_t ego_live_step(ego_live_t *live);
+
+/* Deferred mode (config.deferred): the estimator, which can take far
+ * longer than a scan interval on a microcontroller, runs apart from the
+ * line. ego_live_service does everything but the estimator: it feeds the
+ * session the ring's bytes and runs its timers, and puts each scan (with
+ * its time) in the mailbox, replacing a scan still waiting there (counted
+ * in scans_skipped: the estimator always gets the newest scan, and the
+ * motion it reports spans the scans it skipped, their time included). Call
+ * it from a periodic timer interrupt (every few milliseconds: the ring
+ * must not fill between two calls, 40 ms at 500 kbaud) or from the UART
+ * interrupt; it never waits. ego_live_estimate, from the main loop, takes
+ * the newest scan, if any, through the estimator and writes its line
+ * (hal.out_write); it returns false when there was none. ego_live_stop
+ * only raises a flag that the next ego_live_service acts on. On a single
+ * core the mailbox needs nothing more than the atomic exchange (LDREX /
+ * STREX on Cortex-M3 and up); ego_live_step does both in turn. */
+void ego_live_service(ego_live_t *live);
+bool ego_live_estimate(ego_live_t *live);
 
 /* How long the caller may sleep (WFI) before the next step if no byte
  * comes: 0 when bytes wait or something is due. */

@@ -17,6 +17,8 @@
  * the scans the core gets are scene scans 0, 1, 2, ... when nothing is
  * lost.
  */
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "ego_live.h"
@@ -27,7 +29,7 @@
 
 #define RIG_STEP_US 2000u
 #define SEC 1000000u
-#define SCENE_MAX 64u
+#define SCENE_MAX 128u
 #define OUT_MAX 16384u
 #define JUNK (UART_RING_STAMP_BYTES + 8u) /* more than one ring read takes */
 #define PI_D 3.14159265358979323846
@@ -604,6 +606,252 @@ static void test_ego_live_init_checks_and_early_stop(void)
     TEST_ASSERT_EQUAL_UINT(0u, R.out_len);
 }
 
+/* --- Deferred mode --------------------------------------------------------- */
+
+/* A microcontroller whose estimator takes cost_us per scan. The receive
+ * interrupt fills the ring all the time (every SERVICE_US here). Deferred:
+ * a timer interrupt runs ego_live_service every SERVICE_US, also while the
+ * main loop is inside ego_live_estimate. Not deferred: the main loop's
+ * ego_live_step runs the estimator inline, and nothing serves the line
+ * until it returns. Runs for `span` from now. */
+#define SERVICE_US 1000u
+
+static void rig_run_busy(uint64_t span, uint32_t cost_us)
+{
+    const uint64_t until = R.now + span;
+    uint64_t busy_until = R.now;
+    const bool deferred = R.live.deferred;
+    while (R.now < until && ego_live_status(&R.live) == EGO_LIVE_RUNNING) {
+        R.now += SERVICE_US;
+        rig_receive();
+        if (deferred) {
+            ego_live_service(&R.live); /* the timer interrupt */
+            if (R.now >= busy_until && ego_live_estimate(&R.live)) {
+                busy_until = R.now + cost_us;
+            }
+        } else if (R.now >= busy_until) {
+            const uint32_t before = ego_live_stats(&R.live)->scans;
+            (void)ego_live_step(&R.live);
+            if (ego_live_stats(&R.live)->scans != before) {
+                busy_until = R.now + cost_us;
+            }
+        }
+    }
+}
+
+/* Field n of a CSV line as a number: [-]digits[.digits], as the loop
+ * prints them (parsed by hand: newlib's strtod would pull the heap into
+ * the target's test image). A field that does not parse fails the test. */
+static double number(const char *line, unsigned n)
+{
+    for (unsigned i = 0u; i < n && line != NULL; i++) {
+        line = strchr(line, ',');
+        line = line != NULL ? line + 1 : NULL;
+    }
+    if (line == NULL) {
+        TEST_FAIL_MESSAGE("a CSV line with too few fields");
+        return 0.0;
+    }
+    const bool negative = *line == '-';
+    line += negative ? 1 : 0;
+    double v = 0.0;
+    double scale = 0.0; /* 0 before the point, then 0.1, 0.01, ... */
+    unsigned digits = 0u;
+    for (; *line != '\0' && *line != ','; line++) {
+        if (*line == '.' && scale == 0.0) {
+            scale = 0.1;
+        } else if (*line >= '0' && *line <= '9') {
+            const double d = (double)(*line - '0');
+            if (scale == 0.0) {
+                v = v * 10.0 + d;
+            } else {
+                v += d * scale;
+                scale /= 10.0;
+            }
+            digits++;
+        } else {
+            TEST_FAIL_MESSAGE("a CSV field that is not a number");
+        }
+    }
+    TEST_ASSERT_TRUE(digits > 0u);
+    return negative ? -v : v;
+}
+
+/* Brought up to streaming with an idle main loop. */
+static void rig_until_streaming(void)
+{
+    for (int i = 0; i < 400 && R.first_streaming_us == 0u; i++) {
+        rig_run(R.now + 10000u, 0u);
+    }
+    TEST_ASSERT_TRUE(R.first_streaming_us > 0u);
+}
+
+/* Deferred, with an estimator as fast as the line: every scan reaches it,
+ * the CSV is the replay's byte for byte, and max_scans stops cleanly. */
+static void test_ego_live_deferred_without_load_is_the_replay(void)
+{
+    enum { N = 30 };
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    lc.max_scans = N;
+    lc.deferred = true;
+    rig_init(&sc, &lc);
+    rig_run(R.now + 10u * SEC, 0u);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_status(&R.live));
+    const ego_live_stats_t *st = ego_live_stats(&R.live);
+    TEST_ASSERT_EQUAL_UINT32(N, st->scans);
+    TEST_ASSERT_EQUAL_UINT32(N, st->scans_estimated);
+    TEST_ASSERT_EQUAL_UINT32(0u, st->scans_skipped);
+    TEST_ASSERT_EQUAL_INT(LMS_BAUD_9600, lms_sim_baud(&R.sim));
+    TEST_ASSERT_EQUAL_STRING(replay(0u, N), R.out);
+}
+
+/* The pose of scene scan b in the frame of scene scan a (the drive of
+ * scene_scan). */
+static void scene_motion(uint32_t a, uint32_t b, double *dx, double *dy, double *dtheta)
+{
+    const double ha = 0.25 * (double)a * PI_D / 180.0;
+    const double hb = 0.25 * (double)b * PI_D / 180.0;
+    const double ex = 0.03 * ((double)b - (double)a);
+    const double ey = 0.004 * ((double)b - (double)a);
+    *dx = cos(ha) * ex + sin(ha) * ey;
+    *dy = -sin(ha) * ex + cos(ha) * ey;
+    *dtheta = hb - ha;
+}
+
+/* Deferred, with an estimator that takes 100 ms a scan (7.5 scan
+ * intervals): the line is served every millisecond meanwhile, so nothing
+ * is dropped and the session never takes the busy estimator for a silent
+ * scanner; the estimator gets the newest scan each time, the skipped ones
+ * are counted, and every line's motion is the true motion over the scans
+ * it spans. */
+static void test_ego_live_deferred_keeps_the_line_behind_a_slow_estimator(void)
+{
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    lc.deferred = true;
+    rig_init(&sc, &lc);
+    rig_until_streaming();
+    rig_run_busy(700000u, 100000u);
+    const ego_live_stats_t *st = ego_live_stats(&R.live);
+    const lms_session_stats_t *ss = lms_session_stats(ego_live_session(&R.live));
+    char msg[160];
+    (void)snprintf(msg, sizeof msg, "scans %lu estimated %lu skipped %lu restarts %lu dropped %lu",
+                   (unsigned long)st->scans, (unsigned long)st->scans_estimated,
+                   (unsigned long)st->scans_skipped, (unsigned long)ss->restarts,
+                   (unsigned long)uart_ring_dropped(&R.ring));
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(EGO_LIVE_RUNNING, ego_live_status(&R.live), msg);
+    TEST_ASSERT_EQUAL_UINT32_MESSAGE(0u, ss->restarts, msg);
+    TEST_ASSERT_EQUAL_UINT32_MESSAGE(0u, uart_ring_dropped(&R.ring), msg);
+    TEST_ASSERT_TRUE_MESSAGE(st->scans >= 45u, msg);
+    TEST_ASSERT_TRUE_MESSAGE(st->scans_estimated >= 6u && st->scans_estimated <= 9u, msg);
+    /* Every scan was estimated, skipped, or is the one still waiting. */
+    const uint32_t accounted = st->scans_estimated + st->scans_skipped;
+    TEST_ASSERT_TRUE_MESSAGE(accounted == st->scans || accounted + 1u == st->scans, msg);
+    /* Each line spans several scans (its time says which scan it is); from
+     * the second line on, the previous line's scan is the one it starts
+     * from, and the motion must be the scene's. */
+    const double interval = 13333e-6; /* the session's interval: whole microseconds */
+    unsigned checked = 0u;
+    long prev_k = -1;
+    char buf[256];
+    for (unsigned n = 1u; csv_line(R.out, n, buf, sizeof buf) != NULL; n++) {
+        const double t = number(buf, 1u);
+        const double dx = number(buf, 2u);
+        const double dy = number(buf, 3u);
+        const double dth = number(buf, 4u);
+        const long k = lround(t / interval);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(t - (double)k * interval) < 1.5e-6, buf);
+        if (prev_k >= 0) {
+            TEST_ASSERT_TRUE_MESSAGE(k >= prev_k + 6, buf); /* the skipped scans */
+            double ex = 0.0;
+            double ey = 0.0;
+            double eth = 0.0;
+            scene_motion((uint32_t)prev_k, (uint32_t)k, &ex, &ey, &eth);
+            TEST_ASSERT_TRUE_MESSAGE(fabs(dx - ex) < 0.01 && fabs(dy - ey) < 0.01, buf);
+            TEST_ASSERT_TRUE_MESSAGE(fabs(dth - eth) < 0.2 * PI_D / 180.0, buf);
+            checked++;
+        }
+        prev_k = k;
+    }
+    TEST_ASSERT_TRUE_MESSAGE(checked + 2u == st->scans_estimated, msg);
+}
+
+/* The same load on the inline estimator: nothing serves the line while it
+ * works, so the ring overflows behind every scan (what deferred mode is
+ * for). */
+static void test_ego_live_inline_estimator_loses_bytes_behind_a_slow_one(void)
+{
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    rig_init(&sc, &lc);
+    rig_until_streaming();
+    rig_run_busy(700000u, 100000u);
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "dropped %lu restarts %lu",
+                   (unsigned long)uart_ring_dropped(&R.ring),
+                   (unsigned long)lms_session_stats(ego_live_session(&R.live))->restarts);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(uart_ring_dropped(&R.ring) > 0u, msg);
+}
+
+/* ego_live_stop in deferred mode: a flag the next service acts on. */
+static void test_ego_live_deferred_stop(void)
+{
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    lc.deferred = true;
+    rig_init(&sc, &lc);
+    rig_until_streaming();
+    rig_run(R.now + 100000u, 0u);
+    ego_live_stop(&R.live);
+    TEST_ASSERT_EQUAL_UINT32(0u, ego_live_wait_us(&R.live)); /* the service is due */
+    rig_run(R.now + 2u * SEC, 0u);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_status(&R.live));
+    TEST_ASSERT_EQUAL_INT(LMS_BAUD_9600, lms_sim_baud(&R.sim));
+    TEST_ASSERT_FALSE(ego_live_estimate(&R.live) && ego_live_estimate(&R.live));
+}
+
+/* Deferred, an estimator taking 250 ms a scan, and the scanner silent for
+ * 150 ms: the session restarts and is streaming again well within the
+ * estimator's max_gap (1 s). The restart travels with the next scan into
+ * the mailbox, and on to the newer scans that replace it while the
+ * estimator is busy, so the estimator starts over (one line flagged FIRST)
+ * instead of matching across the outage. */
+static void test_ego_live_deferred_restart_reaches_the_estimator(void)
+{
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    sc.faults.silence_after_scans = 12u;
+    sc.faults.silence_us = 150000u;
+    lc.deferred = true;
+    rig_init(&sc, &lc);
+    rig_until_streaming();
+    rig_run_busy(1500000u, 250000u);
+    const ego_live_stats_t *st = ego_live_stats(&R.live);
+    char msg[128];
+    (void)snprintf(msg, sizeof msg, "gaps %lu estimated %lu skipped %lu state %s sent %lu",
+                   (unsigned long)st->gaps, (unsigned long)st->scans_estimated,
+                   (unsigned long)st->scans_skipped,
+                   lms_session_state_name(lms_session_state(ego_live_session(&R.live))),
+                   (unsigned long)lms_sim_stats(&R.sim)->scans_sent);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_EQUAL_UINT32_MESSAGE(1u, st->gaps, msg);
+    TEST_ASSERT_EQUAL_UINT32_MESSAGE(1u, ego_loop_stats(ego_live_loop(&R.live))->restarts, msg);
+    unsigned first_lines = 0u;
+    char buf[256];
+    for (unsigned n = 1u; csv_line(R.out, n, buf, sizeof buf) != NULL; n++) {
+        first_lines += ((field(buf, 8u) & EGO_FLAG_FIRST) != 0u) ? 1u : 0u;
+    }
+    TEST_ASSERT_EQUAL_UINT32_MESSAGE(1u, first_lines, msg);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -614,5 +862,10 @@ int main(void)
     RUN_TEST(test_ego_live_rate_change_drops_old_rate_bytes);
     RUN_TEST(test_ego_live_refused_setting_fails);
     RUN_TEST(test_ego_live_init_checks_and_early_stop);
+    RUN_TEST(test_ego_live_deferred_without_load_is_the_replay);
+    RUN_TEST(test_ego_live_deferred_keeps_the_line_behind_a_slow_estimator);
+    RUN_TEST(test_ego_live_inline_estimator_loses_bytes_behind_a_slow_one);
+    RUN_TEST(test_ego_live_deferred_stop);
+    RUN_TEST(test_ego_live_deferred_restart_reaches_the_estimator);
     return UNITY_END();
 }
