@@ -21,7 +21,11 @@ foreach(dir IN LISTS INCLUDE_DIRS)
     list(APPEND incs -I${dir})
 endforeach()
 
-set(allowed_headers stdint.h stddef.h stdbool.h limits.h string.h)
+# <stdatomic.h> too: a compiler header like the freestanding ones (no libc
+# behind it), for the firmware core's interrupt-to-main-loop mailbox; the
+# check below makes sure its operations compile to instructions (LDREX /
+# STREX on Cortex-M3) and not to calls into a libatomic a bare part lacks.
+set(allowed_headers stdint.h stddef.h stdbool.h limits.h string.h stdatomic.h)
 
 set(headers "")
 foreach(dir IN LISTS INCLUDE_DIRS)
@@ -72,6 +76,11 @@ else()
         string(REGEX MATCHALL "__aeabi_(d|f)[a-z0-9]+|__aeabi_[a-z0-9]+2(d|f)|__aeabi_(d|f)2[a-z0-9]+" soft_float "${undefined}")
         if(soft_float)
             message("FAIL ${src}: floating point on the target (${soft_float})")
+            math(EXPR failed "${failed} + 1")
+        endif()
+        string(REGEX MATCHALL "__atomic_[a-z_0-9]+|__sync_[a-z_0-9]+" atomic_calls "${undefined}")
+        if(atomic_calls)
+            message("FAIL ${src}: atomic operations as library calls (${atomic_calls})")
             math(EXPR failed "${failed} + 1")
         endif()
     endforeach()
