@@ -3,6 +3,16 @@
 
 #include <string.h>
 
+/* Built with EGO_LIVE_DEFERRED_ONLY, the core has only the deferred mode:
+ * the estimator is not even linked into the line's path, so the call
+ * graph (and its worst-case stack, which the interrupt adds on top of the
+ * main loop's) shows that the interrupt never runs it. */
+#if defined(EGO_LIVE_DEFERRED_ONLY)
+#define INLINE_ESTIMATOR false
+#else
+#define INLINE_ESTIMATOR true
+#endif
+
 /* More damaged telegrams than this between two scans would have been a
  * silence restart (the session's default silence_scans). */
 #define MAX_LOST_PER_SCAN 8u
@@ -91,7 +101,7 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
     live->hal = *hal;
     live->rx = rx;
     live->max_scans = config->max_scans;
-    live->deferred = config->deferred;
+    live->deferred = config->deferred || !INLINE_ESTIMATOR;
     live->write_slot = 0u;
     atomic_init(&live->middle, 1u);
     live->read_slot = 2u;
@@ -156,7 +166,7 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
             break;
         }
         live->stats.scans++;
-        if (live->deferred) {
+        if (live->deferred || !INLINE_ESTIMATOR) {
             publish(live, t, len, t_us);
         } else {
             ego_loop_telegram(&live->loop, &live->loop_hal, t, len, t_us);
@@ -167,7 +177,7 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
         break;
     }
     case LMS_SESSION_EV_RESTART:
-        if (live->deferred) {
+        if (live->deferred || !INLINE_ESTIMATOR) {
             live->gap_pending = true; /* travels with the next scan */
         } else {
             ego_loop_gap(&live->loop);

@@ -181,7 +181,10 @@ ego_live_status_t ego_live_step(ego_live_t *live);
  * (hal.out_write); it returns false when there was none. ego_live_stop
  * only raises a flag that the next ego_live_service acts on. On a single
  * core the mailbox needs nothing more than the atomic exchange (LDREX /
- * STREX on Cortex-M3 and up); ego_live_step does both in turn. */
+ * STREX on Cortex-M3 and up); ego_live_step does both in turn. A build
+ * with EGO_LIVE_DEFERRED_ONLY defined has this mode only (config.deferred
+ * is then always on), so the estimator is not on the interrupt's call
+ * path at all: what a firmware serving the line from an interrupt uses. */
 void ego_live_service(ego_live_t *live);
 bool ego_live_estimate(ego_live_t *live);
 

@@ -21,9 +21,9 @@
 /* A wrap every 997 ticks (39 880 instructions under -icount shift=0): each
  * wrap samples the interrupted program counter. 997: no multiple of any
  * loop's period. */
-#define SYST_RELOAD 996u
+#define SYST_RELOAD_DEFAULT 996u
 #else
-#define SYST_RELOAD SYST_MAX
+#define SYST_RELOAD_DEFAULT SYST_MAX
 #endif
 #define CORE_HZ 25000000u
 
@@ -34,6 +34,12 @@
 void SysTick_Handler(void);
 
 static volatile uint32_t systick_wraps;
+static uint32_t systick_reload = SYST_RELOAD_DEFAULT;
+
+/* The images' periodic work (target_clock_init_period): none by default. */
+__attribute__((weak)) void target_tick(void)
+{
+}
 
 _Noreturn void target_exit(int code)
 {
@@ -86,6 +92,7 @@ void systick_sample(const uint32_t *frame);
 void systick_sample(const uint32_t *frame)
 {
     systick_wraps++;
+    target_tick();
     const uint32_t bucket = frame[6] / TARGET_PC_BUCKET_BYTES;
     if (bucket < TARGET_PC_BUCKETS) {
         pc_samples[bucket]++;
@@ -108,14 +115,21 @@ const uint32_t *target_pc_samples(void)
 void SysTick_Handler(void)
 {
     systick_wraps++;
+    target_tick();
 }
 #endif
 
 void target_clock_init(void)
 {
-    SYST_RVR = SYST_RELOAD;
+    SYST_RVR = systick_reload;
     SYST_CVR = 0u;
     SYST_CSR = SYST_ENABLE_TICKINT_CORE;
+}
+
+void target_clock_init_period(uint32_t ticks)
+{
+    systick_reload = (ticks >= 2u && ticks - 1u <= SYST_MAX) ? ticks - 1u : SYST_RELOAD_DEFAULT;
+    target_clock_init();
 }
 
 uint64_t target_instructions(void)
@@ -128,6 +142,6 @@ uint64_t target_instructions(void)
         wraps = systick_wraps;
         value = SYST_CVR;
     } while (wraps != systick_wraps);
-    const uint64_t ticks = (uint64_t)wraps * (SYST_RELOAD + 1u) + (SYST_RELOAD - value);
+    const uint64_t ticks = (uint64_t)wraps * (systick_reload + 1u) + (systick_reload - value);
     return ticks * TARGET_INSNS_PER_TICK;
 }

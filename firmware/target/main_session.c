@@ -35,6 +35,19 @@
  *
  * Built for the host as well (host_tests/session_image: target.h on
  * stdio), whose output ctest target_session compares with the target's.
+ *
+ * With SESSION_INTERRUPTS (target only: the image session_irq_image) the
+ * board runs in real time instead, as on a part: the core in deferred mode
+ * (ego_live.h), ego_live_service and the receive "interrupt" in the
+ * SysTick interrupt every millisecond, ego_live_estimate in the main loop,
+ * preempted by it at any instruction. The simulated clock is the core's
+ * own instruction count at CPU_MHZ (a 168 MHz Cortex-M4 class part), so the
+ * estimator's real cost decides which scans it gets to: the newest each
+ * time, the others skipped and counted. Its output is not the host's (the
+ * host has no instruction clock): it checks its own run (nothing dropped,
+ * the one restart, the clean stop, every scan estimated or skipped) and
+ * prints '# deferred estimated=.. skipped=..' and the instructions per
+ * estimate.
  */
 #include <stdbool.h>
 #include <stdint.h>
@@ -74,6 +87,13 @@ extern const uint32_t lmsego_stream_size;
 #define SIM_FN
 #endif
 
+#if defined(SESSION_INTERRUPTS)
+#define CPU_MHZ 168u
+/* SysTick every millisecond of the part's time: CPU_MHZ * 1000 instructions. */
+#define TICK_TICKS (CPU_MHZ * 1000u / TARGET_INSNS_PER_TICK)
+#define RUN_LIMIT_INSNS ((uint64_t)RUN_LIMIT_US * CPU_MHZ)
+#endif
+
 /* --- The firmware --------------------------------------------------------- */
 
 static uart_ring_t rx;
@@ -85,9 +105,11 @@ static ego_live_config_t config;
 static uint32_t insns[MAX_MEASURED];
 static uint32_t measured;
 static uint32_t insns_max;
+#if !defined(SESSION_INTERRUPTS)
 static uint64_t loop_insns; /* spent in ego_live_step, all steps */
 static uint64_t step_start;
 static uint64_t last_mark;
+#endif
 
 /* --- The simulated board -------------------------------------------------- */
 
@@ -186,6 +208,21 @@ static void out_write(void *ctx, const uint8_t *bytes, size_t len)
     target_uart_write(bytes, len);
 }
 
+/* The receive interrupt: what the scanner has sent by sim_now into the
+ * ring. */
+SIM_FN static void sim_receive(void)
+{
+    for (uint32_t guard = 0u; guard < 64u; guard++) {
+        const size_t n = lms_sim_transmit(&sim_scanner, sim_host_baud, sim_now, sim_rx_buf,
+                                          sizeof sim_rx_buf);
+        (void)uart_ring_write(&rx, sim_rx_buf, n, (uint32_t)sim_now);
+        if (n < sizeof sim_rx_buf) {
+            break;
+        }
+    }
+}
+
+#if !defined(SESSION_INTERRUPTS)
 /* Time moves on to the next thing either end waits for (at least TICK_US),
  * and the receive interrupt puts what arrived meanwhile into the ring. */
 SIM_FN static void sim_advance(void)
@@ -197,15 +234,9 @@ SIM_FN static void sim_advance(void)
     }
     step = step < TICK_US ? TICK_US : (step > MAX_JUMP_US ? MAX_JUMP_US : step);
     sim_now += step;
-    for (uint32_t guard = 0u; guard < 64u; guard++) {
-        const size_t n = lms_sim_transmit(&sim_scanner, sim_host_baud, sim_now, sim_rx_buf,
-                                          sizeof sim_rx_buf);
-        (void)uart_ring_write(&rx, sim_rx_buf, n, (uint32_t)sim_now);
-        if (n < sizeof sim_rx_buf) {
-            break;
-        }
-    }
+    sim_receive();
 }
+#endif
 
 /* The scanner: powers up at 9600, 180 deg / 0.5 deg, plays the scene,
  * loses power once. */
@@ -239,8 +270,26 @@ SIM_FN static void sim_watch(void)
     }
 }
 
+#if defined(SESSION_INTERRUPTS)
+static volatile bool irq_ready; /* the core is set up: the tick may serve it */
+
+/* SysTick, every millisecond of the part's time: the clock, the receive
+ * interrupt's bytes, and the core's line service (deferred mode). */
+void target_tick(void)
+{
+    if (!irq_ready) {
+        return;
+    }
+    sim_now = SIM_START_US + target_instructions() / CPU_MHZ;
+    sim_receive();
+    ego_live_service(&live);
+    sim_watch();
+}
+#endif
+
 /* --- Measuring and reporting ---------------------------------------------- */
 
+#if !defined(SESSION_INTERRUPTS)
 /* Called after every line: the core's instructions since the last line. */
 static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
 {
@@ -257,6 +306,7 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
     }
     insns_max = n > insns_max ? n : insns_max;
 }
+#endif
 
 static uint64_t ms_since_start(uint64_t t)
 {
@@ -286,6 +336,11 @@ static void report(void)
     report_field(" restart=", ms_since_start(sim_restart_us));
     report_field(" streaming_again=", ms_since_start(sim_streaming_again_us));
     report_field(" stopped=", ms_since_start(sim_stopped_us));
+#if defined(SESSION_INTERRUPTS)
+    report_field("\n# deferred cpu_mhz=", CPU_MHZ);
+    report_field(" estimated=", ego_live_stats(&live)->scans_estimated);
+    report_field(" skipped=", ego_live_stats(&live)->scans_skipped);
+#endif
     report_field("\n# ring peak=", uart_ring_peak(&rx));
     report_field(" dropped=", uart_ring_dropped(&rx));
     report_field(" discarded=", ego_live_stats(&live)->bytes_discarded);
@@ -307,9 +362,20 @@ static const char *check(void)
     if (ego_live_status(&live) != EGO_LIVE_STOPPED) {
         return "the core did not stop cleanly";
     }
+#if defined(SESSION_INTERRUPTS)
+    /* Every scan estimated or skipped (the last may still wait), a line
+     * per estimated scan but the first. */
+    const uint32_t accounted = ls->scans_estimated + ls->scans_skipped;
+    if (ls->scans != SCANS || (accounted != SCANS && accounted + 1u != SCANS) ||
+        lp->lines + 1u != ls->scans_estimated || ls->scans_skipped == 0u ||
+        lp->decode_errors != 0u) {
+        return "scans, estimated and skipped, or lines";
+    }
+#else
     if (ls->scans != SCANS || lp->lines != SCANS - 1u || lp->decode_errors != 0u) {
         return "scans or lines";
     }
+#endif
     if (ss->restarts != FAULTS || ls->gaps != FAULTS || lp->restarts != FAULTS ||
         ss->bring_ups != 1u + FAULTS) {
         return "a restart after the fault, and a bring-up more";
@@ -329,20 +395,46 @@ static const char *check(void)
 int main(void)
 {
     target_uart_init();
+#if defined(SESSION_INTERRUPTS)
+    target_clock_init_period(TICK_TICKS);
+#else
     target_clock_init();
+#endif
     sim_init();
     uart_ring_init(&rx);
     ego_live_defaults(&config);
     config.session.baud = LMS_BAUD_500000;
     config.session.angle_deg = 180u;
     config.session.resolution_cdeg = 100u; /* the recording's 181 values */
-    config.loop.observer = observe;
     config.max_scans = SCANS;
+#if defined(SESSION_INTERRUPTS)
+    config.deferred = true;
+#else
+    config.loop.observer = observe;
+#endif
     const ego_live_hal_t hal = {sim_scanner_write, sim_set_baud, sim_now_us, out_write, NULL};
     if (sim_scene_count < SCANS + 1u || ego_live_init(&live, &config, &hal, &rx) != LMS_OK) {
         target_uart_puts("# check failed: setup\n");
         target_exit(TARGET_EXIT_FAILED);
     }
+#if defined(SESSION_INTERRUPTS)
+    irq_ready = true;
+    /* The main loop: the estimator on the newest scan, whenever there is
+     * one; the tick serves the line meanwhile. */
+    while (ego_live_status(&live) == EGO_LIVE_RUNNING &&
+           target_instructions() < RUN_LIMIT_INSNS) {
+        const uint64_t t0 = target_instructions();
+        if (ego_live_estimate(&live)) {
+            const uint64_t d = (target_instructions() - t0) / TARGET_INSNS_PER_TICK;
+            const uint32_t n = d > UINT32_MAX ? UINT32_MAX : (uint32_t)d;
+            if (measured < MAX_MEASURED) {
+                insns[measured++] = n;
+            }
+            insns_max = n > insns_max ? n : insns_max;
+        }
+    }
+    irq_ready = false;
+#else
     while (ego_live_status(&live) == EGO_LIVE_RUNNING && sim_now < RUN_LIMIT_US) {
         sim_advance();
         step_start = target_instructions();
@@ -350,6 +442,7 @@ int main(void)
         loop_insns += target_instructions() - step_start;
         sim_watch();
     }
+#endif
     report();
     const char *failed = check();
     if (failed != NULL) {

@@ -64,3 +64,29 @@ file(STRINGS ${CMAKE_CURRENT_SOURCE_DIR}/stack_indirect.txt session_indirect REG
 if(session_indirect AND COMMAND lmsego_stack_check)
     lmsego_stack_check(session_image)
 endif()
+
+# The same board in real time (docs/firmware.md): the core in deferred mode,
+# its line service in the SysTick interrupt every millisecond of a 168 MHz
+# part's time, the estimator in the main loop on the newest scan. Its own
+# checks decide (nothing dropped, the restart, the clean stop, every scan
+# estimated or skipped); its output is not the host's.
+# Its own ego_live.c, deferred mode only (EGO_LIVE_DEFERRED_ONLY: the
+# estimator is not on the interrupt's call path, so the worst-case stack,
+# interrupt on top of main loop, is exact); the linker takes it before the
+# library's.
+lmsego_target_image(session_irq_image ${CMAKE_CURRENT_SOURCE_DIR}/main_session.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/report.c ${PROJECT_SOURCE_DIR}/firmware/ego_live.c
+    $<TARGET_OBJECTS:session_scene>)
+target_compile_definitions(session_irq_image PRIVATE SESSION_INTERRUPTS EGO_LIVE_DEFERRED_ONLY)
+target_link_libraries(session_irq_image PRIVATE ego_firmware lms_sim)
+add_test(NAME target_session_irq
+    COMMAND ${CMAKE_COMMAND} -DMODE=target
+        "-DEMULATOR=${CMAKE_CROSSCOMPILING_EMULATOR}"
+        -DIMAGE=$<TARGET_FILE:session_irq_image>
+        -DHOST=
+        -DOUT=${CMAKE_BINARY_DIR}/target_out/session_irq_image
+        -P ${PROJECT_SOURCE_DIR}/host_tests/session_image/run_session.cmake)
+set_tests_properties(target_session_irq PROPERTIES LABELS "target" TIMEOUT 300)
+if(session_indirect AND COMMAND lmsego_stack_check)
+    lmsego_stack_check(session_irq_image)
+endif()

@@ -60,6 +60,11 @@ void target_uart_putc(int c);
 #define TARGET_INSNS_PER_TICK 40u /* 10^9 instructions/s (icount) / 25 MHz */
 void target_clock_init(void);
 uint64_t target_instructions(void);
+/* The same, but the SysTick interrupt comes every `ticks` ticks (2 ..
+ * 2^24) and calls target_tick() each time: a periodic interrupt for the
+ * image's own work (weak default: nothing). */
+void target_clock_init_period(uint32_t ticks);
+void target_tick(void);
 
 /* Built with TARGET_PC_SAMPLING (a profiling build: docs/firmware.md),
  * SysTick also samples the interrupted program counter every 39 880
