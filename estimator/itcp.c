@@ -421,14 +421,16 @@ static bool seen_through(const matcher_t *m, const query_t *q, fx_q16_16_t margi
     return before > r_sq && after > r_sq;
 }
 
-static void init_matcher(matcher_t *m, const ego_scan_t *last, fx_q16_16_t radius)
+/* A matcher for single queries (no tangents, no groups) around ref. */
+static void init_matcher(matcher_t *m, const ego_scan_t *last, fx_bam32_t ref,
+                         fx_q16_16_t radius)
 {
     /* Only the gate switch is read by the search: everything else zero. */
     static const itcp_params_t no_gate;
-    memset(m, 0, sizeof *m);
     m->last = last;
     m->params = &no_gate;
-    m->ref = middle_bearing(last);
+    m->ref = ref;
+    m->main_direction = 0u;
     m->radius = radius;
 }
 
@@ -439,7 +441,7 @@ bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16
         return false;
     }
     matcher_t m;
-    init_matcher(&m, last, radius);
+    init_matcher(&m, last, middle_bearing(last), radius);
     query_t q;
     locate(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     const match_t best = find_match(&m, &q, false, 0u);
@@ -454,7 +456,7 @@ bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
         return false;
     }
     matcher_t m;
-    init_matcher(&m, last, 0);
+    init_matcher(&m, last, middle_bearing(last), 0);
     query_t q;
     locate(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     return seen_through(&m, &q, margin);
@@ -473,17 +475,11 @@ void itcp_prober_init(itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radi
 
 itcp_probe_t itcp_probe(itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq)
 {
-    /* Only the gate switch is read by the search: everything else zero. */
-    static const itcp_params_t no_gate;
     if (p == NULL || dist_sq == NULL || p->last == NULL || p->last->count == 0u) {
         return ITCP_PROBE_NOTHING;
     }
     matcher_t m;
-    m.last = p->last;
-    m.params = &no_gate;
-    m.ref = p->ref;
-    m.main_direction = 0u;
-    m.radius = p->radius;
+    init_matcher(&m, p->last, p->ref, p->radius);
     query_t q;
     locate(&m, qx, qy, p->hint, &q);
     p->hint = q.j0;

@@ -3,7 +3,7 @@
  * bytes plus their arrival time (portable C11, no OS headers, no heap).
  *
  * Capacity UART_RING_SIZE bytes, a power of two fixed at compile time.
- * The indices run free (they count every byte ever stored / read and wrap
+ * The indices are free-running counters (every byte ever stored / read; they wrap
  * at 2^32; a power-of-two size divides 2^32, so head - tail is always the
  * fill and the slot is index & (size - 1)).
  *

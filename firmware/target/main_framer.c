@@ -26,6 +26,7 @@
 #include "ego_loop.h"
 #include "lms_decode.h"
 #include "lms_framer.h"
+#include "report.h"
 #include "target.h"
 
 extern const uint8_t lmsego_stream[];
@@ -92,18 +93,10 @@ static uint64_t run_pass(bool decode, pass_counts_t *counts)
     return target_instructions() - start;
 }
 
-static void put_field(const char *name, uint64_t value, unsigned decimals)
-{
-    char num[32];
-    (void)ego_format_fixed(num, (int64_t)value, decimals);
-    target_uart_puts(name);
-    target_uart_puts(num);
-}
-
 /* num / den with two decimals, rounded to nearest. */
 static void put_ratio(const char *name, uint64_t num, uint64_t den)
 {
-    put_field(name, den == 0u ? 0u : (num * 100u + den / 2u) / den, 2u);
+    report_fixed(name, den == 0u ? 0u : (num * 100u + den / 2u) / den, 2u);
 }
 
 int main(void)
@@ -117,19 +110,19 @@ int main(void)
     const lms_framer_stats_t *st = lms_framer_stats(&framer);
     const uint64_t decoding = both > framing ? both - framing : 0u;
 
-    put_field("# framer bytes=", st->bytes_in, 0u);
-    put_field(" telegrams=", st->telegrams, 0u);
-    put_field(" scans=", decoded.scans, 0u);
-    put_field(" crc_errors=", st->crc_errors, 0u);
-    put_field(" length_errors=", st->length_errors, 0u);
-    put_field(" decode_errors=", decoded.decode_errors, 0u);
-    put_field("\n# framer_insns=", framing, 0u);
-    put_field(" decode_insns=", decoding, 0u);
+    report_field("# framer bytes=", st->bytes_in);
+    report_field(" telegrams=", st->telegrams);
+    report_field(" scans=", decoded.scans);
+    report_field(" crc_errors=", st->crc_errors);
+    report_field(" length_errors=", st->length_errors);
+    report_field(" decode_errors=", decoded.decode_errors);
+    report_field("\n# framer_insns=", framing);
+    report_field(" decode_insns=", decoding);
     put_ratio("\n# framer_insns_per_byte=", framing, st->bytes_in);
     put_ratio("\n# decode_insns_per_scan=", decoding, decoded.scans);
     put_ratio("\n# framer_decoder_insns_per_byte=", both, st->bytes_in);
-    put_field("\n# stack_bytes used=", target_stack_used(), 0u);
-    put_field(" of=", target_stack_size(), 0u);
+    report_field("\n# stack_bytes used=", target_stack_used());
+    report_field(" of=", target_stack_size());
     target_uart_puts("\n");
     const bool same = framed.telegrams == decoded.telegrams && framed.telegrams == st->telegrams;
     target_exit(same ? TARGET_EXIT_OK : TARGET_EXIT_FAILED);

@@ -81,7 +81,7 @@ endif()
 foreach(name campus_181_cm fast_361_cm)
     set(image framer_${name})
     lmsego_target_image(${image} ${CMAKE_CURRENT_LIST_DIR}/main_framer.c
-        $<TARGET_OBJECTS:stream_${name}>)
+        ${CMAKE_CURRENT_LIST_DIR}/report.c $<TARGET_OBJECTS:stream_${name}>)
     # The driver's framer and decoder; ego_format_fixed for the figures.
     target_link_libraries(${image} PRIVATE ego_firmware)
     list(GET LMSEGO_FRAMER_GATE_${name} 0 max_framer)

@@ -4,12 +4,17 @@
 #include "ego_loop.h"
 #include "target.h"
 
-void report_field(const char *name, uint64_t value)
+void report_fixed(const char *name, uint64_t value, unsigned decimals)
 {
     char num[32];
-    (void)ego_format_fixed(num, (int64_t)value, 0u);
+    (void)ego_format_fixed(num, (int64_t)value, decimals);
     target_uart_puts(name);
     target_uart_puts(num);
+}
+
+void report_field(const char *name, uint64_t value)
+{
+    report_fixed(name, value, 0u);
 }
 
 uint32_t report_median(uint32_t *v, uint32_t n)

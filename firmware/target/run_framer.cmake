@@ -10,20 +10,12 @@
 # (instruction counts under -icount are the same run after run: a gate
 # above the measured figure catches silent growth). Writes OUT.target (all
 # output) and OUT.figures (the '#' lines).
-get_filename_component(dir "${OUT}" DIRECTORY)
-file(MAKE_DIRECTORY "${dir}")
-execute_process(COMMAND ${EMULATOR} ${IMAGE}
-    OUTPUT_FILE "${OUT}.target" ERROR_VARIABLE err RESULT_VARIABLE rc TIMEOUT 600)
-if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "the image exited with '${rc}' "
-        "(1: the passes disagree; faults: 121-127, see target.h): ${err}")
+include(${CMAKE_CURRENT_LIST_DIR}/run_image.cmake)
+lmsego_run_image("${EMULATOR}" "${IMAGE}" "${OUT}" 600)
+if(NOT image_rc EQUAL 0)
+    message(FATAL_ERROR "the image exited with '${image_rc}' "
+        "(1: the passes disagree; faults: 121-127, see target.h): ${image_err}")
 endif()
-file(STRINGS "${OUT}.target" figures REGEX "^#")
-file(WRITE "${OUT}.figures" "")
-foreach(line IN LISTS figures)
-    message(STATUS "${line}")
-    file(APPEND "${OUT}.figures" "${line}\n")
-endforeach()
 
 # The image's counts, as `lmsego stats` names them.
 set(count_names bytes telegrams scans crc_errors length_errors decode_errors)

@@ -15,41 +15,22 @@
 #   one of them (not among the first 10) is the restart (flags odd:
 #   EGO_FLAG_FIRST), and every line before it, header included, equals
 #   `lmsego replay STREAM`'s line with the same number.
+include(${CMAKE_CURRENT_LIST_DIR}/../../firmware/target/run_image.cmake)
 get_filename_component(dir "${OUT}" DIRECTORY)
 file(MAKE_DIRECTORY "${dir}")
 
-# The text of a file without its '#' lines.
-function(csv_text file var)
-    file(READ "${file}" text)
-    string(REGEX REPLACE "(^|\n)#[^\n]*" "" text "${text}")
-    string(REGEX REPLACE "^\n" "" text "${text}")
-    set(${var} "${text}" PARENT_SCOPE)
-endfunction()
-
 if(MODE STREQUAL "target")
-    execute_process(COMMAND ${EMULATOR} ${IMAGE}
-        OUTPUT_FILE "${OUT}.target" ERROR_VARIABLE err RESULT_VARIABLE rc TIMEOUT 600)
-    file(STRINGS "${OUT}.target" figures REGEX "^#")
-    file(WRITE "${OUT}.figures" "")
-    foreach(line IN LISTS figures)
-        message(STATUS "${line}")
-        file(APPEND "${OUT}.figures" "${line}\n")
-    endforeach()
-    if(NOT rc EQUAL 0)
-        message(FATAL_ERROR "the image exited with '${rc}' (1: its own check failed; "
-                            "faults: 121-127, see target.h): ${err}")
+    lmsego_run_image("${EMULATOR}" "${IMAGE}" "${OUT}" 600)
+    if(NOT image_rc EQUAL 0)
+        message(FATAL_ERROR "the image exited with '${image_rc}' (1: its own check failed; "
+                            "faults: 121-127, see target.h): ${image_err}")
     endif()
-    foreach(want "# session scans=[0-9]+" "# insns_per_scan median=[0-9]+ max=[0-9]+"
-                 "# stack_bytes used=[0-9]+")
+    foreach(want "# session scans=[0-9]+" "# insns_per_scan median=[0-9]+ max=[0-9]+")
         if(NOT figures MATCHES "${want}")
             message(FATAL_ERROR "no '${want}' line")
         endif()
     endforeach()
-    # The stack section is 4 KiB with .bss below it: keep a 512-byte margin.
-    string(REGEX MATCH "# stack_bytes used=([0-9]+)" _ "${figures}")
-    if(CMAKE_MATCH_1 GREATER 3584)
-        message(FATAL_ERROR "stack high-water mark ${CMAKE_MATCH_1} B: above 3.5 KiB of 4 KiB")
-    endif()
+    lmsego_check_stack("${figures}")
     if(HOST STREQUAL "")
         message(STATUS "no LMSEGO_HOST_SESSION_IMAGE: output not compared with the host")
         return()
@@ -58,8 +39,8 @@ if(MODE STREQUAL "target")
     if(NOT hrc EQUAL 0)
         message(FATAL_ERROR "the host session image failed: ${hrc}")
     endif()
-    csv_text("${OUT}.target" target_text)
-    csv_text("${OUT}.host" host_text)
+    lmsego_csv_text("${OUT}.target" target_text)
+    lmsego_csv_text("${OUT}.host" host_text)
     if(NOT target_text STREQUAL host_text)
         file(WRITE "${OUT}.target-csv" "${target_text}")
         file(WRITE "${OUT}.host-csv" "${host_text}")
