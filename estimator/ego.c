@@ -38,6 +38,29 @@ void ego_defaults(ego_params_t *params)
     params->sweep_steps = 11u;
     params->sweep_step = FX_BAM32_DEG_C(4.0);
     params->trust_rotation = FX_BAM32_DEG_C(3.0);
+    params->hold_first = true;
+    params->max_candidates = 0u;
+    params->prediction_first = false;
+}
+
+void ego_defaults_bounded(ego_params_t *params)
+{
+    ego_defaults(params);
+    params->prep.beam_spacing_cdeg = 100u; /* 1 deg */
+    params->tfit.passes = 0u;
+    params->hist.kind = HIST_AH;
+    params->max_rotation_bins = (uint16_t)(HIST_BINS / 36u); /* 5 deg */
+    params->use_coarse = false;
+    params->sweep_steps = 0u;
+    params->hold_first = false;
+    params->max_candidates = 1u;
+    params->prediction_first = true;
+    params->itcp.radius_start = FX_Q16_16_C(0.2);
+    params->itcp.max_iterations = 8u;
+    params->itcp.fine_iterations = 6u;
+    params->itcp.converge_translation = FX_Q16_16_C(0.0005);
+    params->itcp.converge_rotation = FX_BAM32_DEG_C(0.005);
+    params->itcp.max_points = 64u;
 }
 
 void ego_reset(ego_state_t *state)
@@ -110,10 +133,13 @@ static itcp_status_t register_from(const ego_scan_t *last, const ego_scan_t *cur
                                    const ego_params_t *params, itcp_result_t *r)
 {
     STAGE(EGO_STAGE_REGISTER);
-    itcp_result_t held;
-    const itcp_status_t st =
-        itcp_register(last, current, main_direction, start, true, &params->itcp, &held);
-    const ego_pose_t second = (st == ITCP_OK) ? held.pose : *start;
+    ego_pose_t second = *start;
+    if (params->hold_first) {
+        itcp_result_t held;
+        const itcp_status_t st =
+            itcp_register(last, current, main_direction, start, true, &params->itcp, &held);
+        second = (st == ITCP_OK) ? held.pose : *start;
+    }
     const itcp_status_t result =
         itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
     STAGE(EGO_STAGE_OTHER);
@@ -230,7 +256,13 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         return EGO_ERR_SCAN;
     }
     STAGE(EGO_STAGE_TANGENTS);
-    tfit_fit_scan(current, &params->tfit);
+    if (params->hist.kind == HIST_HTAH || params->use_coarse || params->itcp.tangent_gate) {
+        tfit_fit_scan(current, &params->tfit);
+    } else {
+        /* Only ITCP's sample of the points needs a tangent (its groups). */
+        const uint16_t stride = itcp_sample_stride(current->count, params->itcp.max_points);
+        tfit_fit_scan_sample(current, &params->tfit, (uint16_t)(stride / 2u), stride);
+    }
     STAGE(EGO_STAGE_HISTOGRAM);
     (void)hist_build(current, &params->hist, &state->hist[cur]);
     STAGE(EGO_STAGE_OTHER);
@@ -255,35 +287,42 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
 
     bool matched = false;
     if (current->count >= params->min_points && last->count >= params->min_points) {
-        hist_match_t hm;
-        /* Around the prior's rotation, if any. */
-        const fx_bam32_t expected = (prior != NULL) ? prior->theta : 0u;
-        STAGE(EGO_STAGE_CORRELATE);
-        hist_correlate(&state->hist[cur], &state->hist[state->last], expected,
-                       params->max_rotation_bins,
-                       params->merge_bins, &hm);
-        STAGE(EGO_STAGE_OTHER);
-        /* Candidates: the histogram's peaks, plus the predicted rotation
-         * when the histogram is not trustworthy. */
+        /* Candidates: the prior's rotation (or, with prediction_first, a
+         * trusted prediction's), the histogram's peaks, plus the predicted
+         * rotation when the histogram is not trustworthy. */
         fx_bam32_t rotation[HIST_MAX_CANDIDATES + 3u]; /* + prior, prediction, sweep */
         fx_q2_30_t correlation[HIST_MAX_CANDIDATES + 3u];
         uint8_t n = 0u;
-        if (prior != NULL) { /* the prior's rotation first */
-            rotation[n] = prior->theta;
-            correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+        const bool prediction_first = prior == NULL && have_prediction && params->prediction_first;
+        if (prior != NULL || prediction_first) {
+            rotation[n] = predicted.theta;
+            correlation[n] = 0;
             n++;
         }
-        for (uint8_t k = 0u; k < hm.count; k++) {
-            rotation[n] = hm.candidate[k].rotation;
-            correlation[n] = hm.candidate[k].correlation;
-            n++;
-        }
-        if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
-            out->flags |= EGO_FLAG_LOW_CORRELATION;
-            if (prior == NULL) {
-                rotation[n] = predicted.theta;
-                correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+        /* The histogram only when its candidates can be tried. */
+        if (params->max_candidates == 0u || n < params->max_candidates) {
+            hist_match_t hm;
+            /* Around the prior's rotation, if any. */
+            const fx_bam32_t expected = (prior != NULL) ? prior->theta : 0u;
+            STAGE(EGO_STAGE_CORRELATE);
+            hist_correlate(&state->hist[cur], &state->hist[state->last], expected,
+                           params->max_rotation_bins, params->merge_bins, &hm);
+            STAGE(EGO_STAGE_OTHER);
+            if (n > 0u) {
+                correlation[0] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+            }
+            for (uint8_t k = 0u; k < hm.count; k++) {
+                rotation[n] = hm.candidate[k].rotation;
+                correlation[n] = hm.candidate[k].correlation;
                 n++;
+            }
+            if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
+                out->flags |= EGO_FLAG_LOW_CORRELATION;
+                if (prior == NULL && !prediction_first) {
+                    rotation[n] = predicted.theta;
+                    correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+                    n++;
+                }
             }
         }
         const fx_bam32_t main_direction = hist_main_direction(&state->hist[state->last]);
@@ -292,6 +331,9 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         memset(&best, 0, sizeof best);
         uint8_t best_k = 0u;
         uint8_t tried = 0u;
+        if (params->max_candidates != 0u && n > params->max_candidates) {
+            n = params->max_candidates;
+        }
         for (uint8_t k = 0u; k < n && !good_enough(params, best_status, &best, true);
              k++) {
             itcp_result_t r;

@@ -22,6 +22,7 @@ void ego_prep_defaults(ego_prep_params_t *params)
     params->jump_factor = 4u;
     params->occlusion_sin = 186453311; /* sin(10 deg), Q2.30 */
     params->meas_mode = (uint8_t)LMS_MEAS_8M_FIELDS_DAZZLE;
+    params->beam_spacing_cdeg = 0u;
 }
 
 /* Binary angle of an angle in centi-degrees (0 .. 35999), rounded. */
@@ -95,11 +96,14 @@ ego_prep_status_t ego_scan_prepare(const lms_scan_t *lms, const ego_prep_params_
         return EGO_PREP_ERR_LAYOUT;
     }
     scan->values = lms->count;
-    const fx_q2_30_t step_rad = (fx_q2_30_t)(layout.step_cdeg * CDEG_RAD_Q30);
+    /* Every beam_step-th value; at most 8 (8 deg at 1-deg scans). */
+    uint16_t beam_step = (uint16_t)(params->beam_spacing_cdeg / layout.step_cdeg);
+    beam_step = (beam_step < 1u) ? 1u : ((beam_step > 8u) ? 8u : beam_step);
+    const fx_q2_30_t step_rad = (fx_q2_30_t)(layout.step_cdeg * beam_step * CDEG_RAD_Q30);
 
     sensor_point_t prev = {0, 0, 0};
     uint16_t prev_value = 0u;
-    for (uint16_t k = 0u; k < lms->count; k++) {
+    for (uint16_t k = 0u; k < lms->count; k = (uint16_t)(k + beam_step)) {
         lms_value_t v;
         if (lms_value_decode(lms->values[k], params->meas_mode, lms->unit, &v) != LMS_OK ||
             v.kind != LMS_VALUE_RANGE) {
@@ -132,7 +136,7 @@ ego_prep_status_t ego_scan_prepare(const lms_scan_t *lms, const ego_prep_params_
 
         if (i > 0u) {
             uint8_t link = 0u;
-            if (k != prev_value + 1u) {
+            if (k != prev_value + beam_step) {
                 link |= EGO_LINK_GAP;
             } else if (is_jump(params, prev.r, r, step_rad)) {
                 link |= EGO_LINK_JUMP;

@@ -69,6 +69,9 @@ typedef struct {
     uint16_t jump_factor;        /* ... or jump_factor * r * dphi */
     fx_q2_30_t occlusion_sin;    /* sin of the occlusion angle */
     uint8_t meas_mode;           /* lms_meas_mode_t of the scanner */
+    uint16_t beam_spacing_cdeg;  /* thin the beams to at least this spacing, in 0.01 deg
+                                    (0, the default: every value; the bounded profile
+                                    thins 0.5- and 0.25-deg scans to 1 deg) */
 } ego_prep_params_t;
 
 void ego_prep_defaults(ego_prep_params_t *params);

@@ -491,6 +491,14 @@ itcp_probe_t itcp_probe(itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64
     return seen_through(&m, &q, p->margin) ? ITCP_PROBE_SEEN_THROUGH : ITCP_PROBE_NOTHING;
 }
 
+uint16_t itcp_sample_stride(uint16_t count, uint16_t max_points)
+{
+    if (max_points == 0u || count <= max_points) {
+        return 1u;
+    }
+    return (uint16_t)(((uint32_t)count + max_points - 1u) / max_points);
+}
+
 void itcp_sums_clear(itcp_sums_t *sums)
 {
     memset(sums, 0, sizeof *sums);
@@ -514,7 +522,8 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
     const uint64_t inlier_sq =
         (uint64_t)((int64_t)m->params->inlier_distance * m->params->inlier_distance);
     uint16_t hint = (uint16_t)(m->last->count / 2u);
-    for (uint16_t i = 0u; i < cur->count; i++) {
+    const uint16_t stride = itcp_sample_stride(cur->count, m->params->max_points);
+    for (uint16_t i = (uint16_t)(stride / 2u); i < cur->count; i = (uint16_t)(i + stride)) {
         fx_q16_16_t qx;
         fx_q16_16_t qy;
         ego_pose_apply(pose, s, c, cur->x[i], cur->y[i], &qx, &qy);
@@ -689,8 +698,9 @@ static bool accelerate(ego_pose_t *pose, const step_t *last_step, const step_t *
  * shrinking from radius_from to radius_floor; at most max_iterations. */
 static itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp_params_t *params,
                              bool hold_rotation, fx_q16_16_t radius_from,
-                             fx_q16_16_t radius_floor, ego_pose_t *pose_io, pass_t *pass,
-                             uint16_t *iterations, bool *converged)
+                             fx_q16_16_t radius_floor, uint8_t max_iterations,
+                             ego_pose_t *pose_io, pass_t *pass, uint16_t *iterations,
+                             bool *converged)
 {
     ego_pose_t pose = *pose_io;
     m->radius = radius_from;
@@ -703,7 +713,7 @@ static itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp
     step_t jump = {{0, 0, 0}};
     itcp_status_t status = ITCP_OK;
     *converged = false;
-    for (uint8_t it = 0u; it < params->max_iterations; it++) {
+    for (uint8_t it = 0u; it < max_iterations; it++) {
         match_all(m, current, &pose, false, pass);
         if (pass->sums.group[0].n + pass->sums.group[1].n < params->min_matches) {
             status = ITCP_ERR_FEW_MATCHES;
@@ -769,8 +779,9 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
     pass_t pass;
     uint16_t iterations = 0u;
     bool converged = false;
-    itcp_status_t status = iterate(&m, current, params, hold_rotation, params->radius_start,
-                                   params->radius_min, &pose, &pass, &iterations, &converged);
+    itcp_status_t status =
+        iterate(&m, current, params, hold_rotation, params->radius_start, params->radius_min,
+                params->max_iterations, &pose, &pass, &iterations, &converged);
     if (status == ITCP_OK && converged && params->radius_fine < params->radius_min) {
         /* Converged among the nearby surfaces: now only the close matches.
          * Wrong partners within radius_min pull every pose towards no
@@ -782,6 +793,8 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
         bool fine_converged = false;
         const itcp_status_t fine_status =
             iterate(&m, current, params, hold_rotation, params->radius_fine, params->radius_fine,
+                    (params->fine_iterations != 0u) ? params->fine_iterations
+                                                    : params->max_iterations,
                     &fine, &pass, &fine_iterations, &fine_converged);
         iterations = (uint16_t)(iterations + fine_iterations);
         if (fine_status == ITCP_OK && fine_converged &&

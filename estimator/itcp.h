@@ -66,14 +66,23 @@ typedef struct {
                                         (>= radius_min: no second run) */
     fx_q2_30_t radius_shrink;        /* per iteration, default 0.75 */
     uint8_t max_iterations;          /* default 30 */
+    uint8_t fine_iterations;         /* of the second run (0: max_iterations, the default) */
     fx_q16_16_t converge_translation;/* default 0.0001 m */
     fx_bam32_t converge_rotation;    /* default 0.001 deg */
     fx_q16_16_t inlier_distance;     /* for the inlier count, default 0.10 m */
     fx_q2_30_t aperture_ratio;       /* default 0.2 */
     uint16_t min_matches;            /* fewer: the registration fails; default 10 */
+    uint16_t max_points;             /* match at most this many current points, evenly
+                                        spread over the scan order (0: all, the
+                                        default); the bounded profile's work cap */
 } itcp_params_t;
 
 void itcp_defaults(itcp_params_t *params);
+
+/* The step between the current points ITCP matches: 1, or with
+ * max_points the smallest that takes at most max_points of count; the
+ * first is stride / 2. */
+uint16_t itcp_sample_stride(uint16_t count, uint16_t max_points);
 
 typedef struct {
     ego_pose_t pose;

@@ -164,6 +164,13 @@ bool tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_
 
 void tfit_fit_scan(ego_scan_t *scan, const tfit_params_t *params)
 {
+    tfit_fit_scan_sample(scan, params, 0u, 1u);
+}
+
+void tfit_fit_scan_sample(ego_scan_t *scan, const tfit_params_t *params, uint16_t first_point,
+                          uint16_t stride)
+{
+    stride = (stride < 1u) ? 1u : stride;
     uint8_t n = params->half_window;
     if (n < 1u) {
         n = 1u;
@@ -173,7 +180,15 @@ void tfit_fit_scan(ego_scan_t *scan, const tfit_params_t *params)
     }
     const uint8_t min_points = (params->min_points < 2u) ? 2u : params->min_points;
 
+    uint16_t next = first_point;
     for (uint16_t i = 0u; i < scan->count; i++) {
+        scan->flags[i] &= (uint8_t)~EGO_POINT_HAS_TANGENT;
+        scan->tangent[i] = 0u;
+        scan->tangent_rms[i] = 0u;
+        if (i != next) {
+            continue;
+        }
+        next = (uint16_t)(next + stride);
         /* The window: up to n linked neighbours on each side. */
         uint16_t first = i;
         while (first > 0u && i - first < n && ego_scan_linked(scan, (uint16_t)(first - 1u))) {
@@ -184,9 +199,6 @@ void tfit_fit_scan(ego_scan_t *scan, const tfit_params_t *params)
             last++;
         }
         const uint16_t count = (uint16_t)(last - first + 1u);
-        scan->flags[i] &= (uint8_t)~EGO_POINT_HAS_TANGENT;
-        scan->tangent[i] = 0u;
-        scan->tangent_rms[i] = 0u;
         if (count < min_points) {
             continue;
         }

@@ -58,4 +58,10 @@ bool tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_
  * EGO_POINT_HAS_TANGENT flag. */
 void tfit_fit_scan(ego_scan_t *scan, const tfit_params_t *params);
 
+/* The same for points first, first + stride, ... only (stride >= 1); the
+ * others get no tangent. For the bounded profile, where only ITCP's sample
+ * of the points needs one. */
+void tfit_fit_scan_sample(ego_scan_t *scan, const tfit_params_t *params, uint16_t first,
+                          uint16_t stride);
+
 #endif /* TFIT_H */

@@ -1,5 +1,5 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
- * [--mode HEX] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
+ * [--mode HEX] [--bounded] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
  * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
@@ -251,6 +251,12 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *frames_path = NULL;
     unsigned long scan_step = 1u;
     unsigned long scan_offset = 0u;
+    /* --bounded first: the other options adjust the profile it selects. */
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--bounded") == 0) {
+            ego_defaults_bounded(&config.ego);
+        }
+    }
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -301,6 +307,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                                        "a whole number, 0..100000");
             }
             i++;
+        } else if (strcmp(arg, "--bounded") == 0) {
+            /* applied above */
         } else if (strcmp(arg, "--icp") == 0) {
             config.ego.itcp.weighted = false; /* plain ICP, for comparison */
         } else if (strcmp(arg, "--hist") == 0) {

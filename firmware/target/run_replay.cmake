@@ -2,6 +2,7 @@
 #   -DEMULATOR=<qemu command, a list ending in -kernel> -DIMAGE=<elf>
 #   -DSTREAM=<.lms> -DHOST_LMSEGO=<host lmsego or empty> -DOUT=<prefix>
 #   [-DMAX_INSNS=<gate on the largest scan's instructions>]
+#   [-DHOST_ARGS=<options of the host's lmsego replay, e.g. --bounded>]
 # Passes when the image exits 0, prints its '# insns_per_scan' line (with
 # a max at or below MAX_INSNS, when given: instruction counts under
 # -icount are the same run after run, so the gate catches any growth), and
@@ -28,7 +29,7 @@ if(HOST_LMSEGO STREQUAL "")
     message(STATUS "no LMSEGO_HOST_LMSEGO: output not compared with the host")
     return()
 endif()
-execute_process(COMMAND "${HOST_LMSEGO}" replay "${STREAM}"
+execute_process(COMMAND "${HOST_LMSEGO}" replay ${HOST_ARGS} "${STREAM}"
     OUTPUT_FILE "${OUT}.host" ERROR_QUIET RESULT_VARIABLE hrc)
 if(NOT hrc EQUAL 0)
     message(FATAL_ERROR "host lmsego replay failed: ${hrc}")
