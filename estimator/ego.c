@@ -55,12 +55,12 @@ void ego_defaults_bounded(ego_params_t *params)
     params->hold_first = false;
     params->max_candidates = 1u;
     params->prediction_first = true;
-    params->itcp.radius_start = FX_Q16_16_C(0.2);
-    params->itcp.max_iterations = 8u;
-    params->itcp.fine_iterations = 6u;
+    params->itcp.radius_start = FX_Q16_16_C(0.15);
+    params->itcp.max_iterations = 6u;
+    params->itcp.fine_iterations = 4u;
     params->itcp.converge_translation = FX_Q16_16_C(0.0005);
     params->itcp.converge_rotation = FX_BAM32_DEG_C(0.005);
-    params->itcp.max_points = 64u;
+    params->itcp.max_points = 40u;
 }
 
 void ego_reset(ego_state_t *state)

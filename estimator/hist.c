@@ -351,16 +351,39 @@ typedef struct {
     uint16_t length;
 } run_t;
 
+/* More runs than that, but at most HIST_MAX_SCATTERED bins that are not
+ * zero (a plain angle histogram of a short scan: single votes spread
+ * over many directions): the list of those bins. */
+#define HIST_MAX_SCATTERED 128u
+
 typedef struct {
     bool dense;
     uint8_t count;
     run_t run[HIST_MAX_RUNS];
+    uint16_t scattered;               /* bins in bin[] (valid when dense) */
+    uint16_t bin[HIST_MAX_SCATTERED]; /* ... or 0 when there are more */
 } runs_t;
+
+static void find_scattered(const scaled_t *a, runs_t *r)
+{
+    r->scattered = 0u;
+    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+        if ((a->bin[b] >> a->shift) == 0u) {
+            continue;
+        }
+        if (r->scattered == HIST_MAX_SCATTERED) {
+            r->scattered = 0u;
+            return;
+        }
+        r->bin[r->scattered++] = b;
+    }
+}
 
 static void find_runs(const scaled_t *a, runs_t *r)
 {
     r->dense = false;
     r->count = 0u;
+    r->scattered = 0u;
     uint16_t b = 0u;
     while (b < HIST_BINS) { /* each bin is passed once */
         if ((a->bin[b] >> a->shift) == 0u) {
@@ -369,6 +392,7 @@ static void find_runs(const scaled_t *a, runs_t *r)
         }
         if (r->count == HIST_MAX_RUNS) {
             r->dense = true;
+            find_scattered(a, r);
             return;
         }
         const uint16_t start = b;
@@ -383,14 +407,21 @@ static void find_runs(const scaled_t *a, runs_t *r)
 
 /* M sum_i s[i] t[i + shift] - S T (indices modulo M): the centred dot
  * product over M, over a's runs (the zero bins add nothing), each as at
- * most two straight pieces; runs NULL: over every bin. */
+ * most two straight pieces, or over its scattered bins; runs NULL: over
+ * every bin. */
 static int64_t dot_shifted(const scaled_t *a, const runs_t *runs, const scaled_t *b,
                            int32_t shift)
 {
     const uint32_t k =
         (uint32_t)((shift % (int32_t)HIST_BINS + (int32_t)HIST_BINS) % (int32_t)HIST_BINS);
     uint64_t dot = 0u;
-    if (runs == NULL || runs->dense) {
+    if (runs != NULL && runs->dense && runs->scattered > 0u) {
+        for (uint16_t e = 0u; e < runs->scattered; e++) {
+            const uint32_t i = runs->bin[e];
+            const uint32_t at = (i + k < HIST_BINS) ? i + k : i + k - HIST_BINS;
+            dot += (uint64_t)(a->bin[i] >> a->shift) * (b->bin[at] >> b->shift);
+        }
+    } else if (runs == NULL || runs->dense) {
         const uint32_t first = HIST_BINS - k; /* i = 0 .. first - 1 meet b[k .. M - 1] */
         dot = dot_run(a->bin, a->shift, &b->bin[k], b->shift, first) +
               dot_run(&a->bin[first], a->shift, b->bin, b->shift, k);

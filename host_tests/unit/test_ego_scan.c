@@ -119,6 +119,45 @@ static void test_ego_scan_wall_in_every_layout(void)
     }
 }
 
+/* The bounded profile's thinning: a beam spacing of 1 deg keeps every
+ * second value of a 0.5-deg scan, every fourth of a 0.25-deg one, and
+ * every value of a 1-deg scan; the kept points are exactly the full
+ * scan's points at those beams, and they stay one segment. */
+static void test_ego_scan_beam_spacing_thins_fine_scans(void)
+{
+    static ego_scan_t full;
+    const unsigned counts[] = {181u, 361u, 401u};
+    const unsigned steps[] = {1u, 2u, 4u};
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    for (unsigned c = 0u; c < 3u; c++) {
+        make_wall_scan(counts[c], LMS_UNIT_MM, 3.0);
+        p.beam_spacing_cdeg = 0u;
+        prepare(&p);
+        full = g_scan;
+        p.beam_spacing_cdeg = 100u;
+        prepare(&p);
+        /* The wall is seen in a contiguous run of beams: every steps[c]-th
+         * of them is kept. */
+        TEST_ASSERT_TRUE(g_scan.count + 1u >= full.count / steps[c]);
+        TEST_ASSERT_TRUE(g_scan.count <= full.count / steps[c] + 1u);
+        uint16_t j = 0u;
+        for (uint16_t i = 0u; i < g_scan.count; i++) {
+            while (j < full.count && full.bearing[j] != g_scan.bearing[i]) {
+                j++;
+            }
+            TEST_ASSERT_TRUE(j < full.count);
+            TEST_ASSERT_EQUAL_INT32(full.x[j], g_scan.x[i]);
+            TEST_ASSERT_EQUAL_INT32(full.y[j], g_scan.y[i]);
+            if (i + 1u < g_scan.count) {
+                TEST_ASSERT_TRUE(j + steps[c] < full.count);
+                TEST_ASSERT_EQUAL_UINT32(full.bearing[j + steps[c]], g_scan.bearing[i + 1u]);
+                TEST_ASSERT_TRUE(ego_scan_linked(&g_scan, i));
+            }
+        }
+    }
+}
+
 static void test_ego_scan_centimetres_and_mount(void)
 {
     ego_prep_params_t p;
@@ -249,6 +288,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_ego_scan_wall_in_every_layout);
+    RUN_TEST(test_ego_scan_beam_spacing_thins_fine_scans);
     RUN_TEST(test_ego_scan_centimetres_and_mount);
     RUN_TEST(test_ego_scan_special_values_leave_gaps);
     RUN_TEST(test_ego_scan_range_jumps_break);

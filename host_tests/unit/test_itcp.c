@@ -334,6 +334,28 @@ static void test_itcp_probe_is_nearest_then_free_space(void)
     TEST_ASSERT_TRUE(seen[ITCP_PROBE_SEEN_THROUGH] > 0u);
 }
 
+/* The bounded profile's work cap: at most max_points of count, spread
+ * over the whole scan. */
+static void test_itcp_sample_stride_caps_the_points(void)
+{
+    TEST_ASSERT_EQUAL_UINT16(1u, itcp_sample_stride(361u, 0u));
+    TEST_ASSERT_EQUAL_UINT16(1u, itcp_sample_stride(40u, 40u));
+    TEST_ASSERT_EQUAL_UINT16(1u, itcp_sample_stride(0u, 40u));
+    for (uint16_t count = 1u; count <= 401u; count++) {
+        for (uint16_t cap = 1u; cap <= 64u; cap++) {
+            const uint16_t stride = itcp_sample_stride(count, cap);
+            const uint16_t taken = (uint16_t)((count - stride / 2u + stride - 1u) / stride);
+            TEST_ASSERT_TRUE(taken <= cap);
+            /* The smallest such stride: one less would take too many. */
+            if (stride > 1u) {
+                const uint16_t s1 = (uint16_t)(stride - 1u);
+                TEST_ASSERT_TRUE((count - s1 / 2u + s1 - 1u) / s1 > cap ||
+                                 (count + s1 - 1u) / s1 > cap);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -342,6 +364,7 @@ int main(void)
     RUN_TEST(test_itcp_hold_rotation_keeps_theta);
     RUN_TEST(test_itcp_flags_the_corridor_aperture);
     RUN_TEST(test_itcp_fails_cleanly_without_points);
+    RUN_TEST(test_itcp_sample_stride_caps_the_points);
     RUN_TEST(test_itcp_nearest_matches_brute_force);
     RUN_TEST(test_itcp_seen_through_is_free_space);
     RUN_TEST(test_itcp_probe_is_nearest_then_free_space);

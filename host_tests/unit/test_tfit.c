@@ -239,6 +239,36 @@ static void test_tfit_scan_follows_segments(void)
     TEST_ASSERT_TRUE(scan.tangent_rms[19] > 100u);
 }
 
+/* The bounded profile fits only ITCP's sample: those points get the same
+ * tangent as a fit of every point, the others none. */
+static void test_tfit_scan_sample_fits_only_the_sample(void)
+{
+    static ego_scan_t all;
+    static ego_scan_t some;
+    make_corner_scan(&all);
+    make_corner_scan(&some);
+    tfit_params_t params;
+    tfit_defaults(&params);
+    tfit_fit_scan(&all, &params);
+    some.flags[5] |= EGO_POINT_HAS_TANGENT; /* stale: must be cleared */
+    tfit_fit_scan_sample(&some, &params, 1u, 3u);
+    unsigned fitted = 0u;
+    for (uint16_t i = 0u; i < all.count; i++) {
+        if (i % 3u == 1u) {
+            TEST_ASSERT_EQUAL_UINT8(all.flags[i], some.flags[i]);
+            TEST_ASSERT_EQUAL_UINT32(all.tangent[i], some.tangent[i]);
+            TEST_ASSERT_EQUAL_UINT16(all.tangent_rms[i], some.tangent_rms[i]);
+            fitted += (some.flags[i] & EGO_POINT_HAS_TANGENT) != 0u ? 1u : 0u;
+        } else {
+            TEST_ASSERT_FALSE(some.flags[i] & EGO_POINT_HAS_TANGENT);
+            /* The link flags are kept. */
+            TEST_ASSERT_EQUAL_UINT8(all.flags[i] & (uint8_t)~EGO_POINT_HAS_TANGENT,
+                                    some.flags[i]);
+        }
+    }
+    TEST_ASSERT_TRUE(fitted >= 10u);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -247,5 +277,6 @@ int main(void)
     RUN_TEST(test_tfit_m_estimator_rejects_an_outlier);
     RUN_TEST(test_tfit_rejects_degenerate_input);
     RUN_TEST(test_tfit_scan_follows_segments);
+    RUN_TEST(test_tfit_scan_sample_fits_only_the_sample);
     return UNITY_END();
 }
