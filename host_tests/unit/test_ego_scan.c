@@ -125,12 +125,12 @@ static void test_ego_scan_wall_in_every_layout(void)
  * scan's points at those beams, and they stay one segment. */
 static void test_ego_scan_beam_spacing_thins_fine_scans(void)
 {
-    static ego_scan_t full;
     const unsigned counts[] = {181u, 361u, 401u};
     const unsigned steps[] = {1u, 2u, 4u};
     ego_prep_params_t p;
     ego_prep_defaults(&p);
     for (unsigned c = 0u; c < 3u; c++) {
+        static ego_scan_t full;
         make_wall_scan(counts[c], LMS_UNIT_MM, 3.0);
         p.beam_spacing_cdeg = 0u;
         prepare(&p);
