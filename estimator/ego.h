@@ -93,8 +93,8 @@ typedef struct {
     uint8_t sweep_steps;           /* without a prior, when no candidate fits: coarse search */
     fx_bam32_t sweep_step;         /* over rotations sweep_steps * sweep_step each side of
                                       the prediction; default 11 x 4 deg (0: off) */
-    bool hold_first;               /* ITCP with the rotation held first, then free (the
-                                      paper's two stages); default on */
+    bool hold_first;               /* ITCP with the rotation held first, then solved as
+                                      well (the paper's two stages); default on */
     uint8_t max_candidates;        /* rotation candidates registered at most (0: all) */
     bool prediction_first;         /* without a prior, a trusted prediction's rotation is
                                       tried first, as a prior's is; default off */
@@ -105,11 +105,12 @@ void ego_defaults(ego_params_t *params);
 /* The bounded profile, for a microcontroller that must keep up with the
  * scanner: ego_defaults with the work per scan capped by construction
  * (docs/firmware.md, "The bounded profile"): 0.5-deg scans thinned to
- * 1 deg, plain tangent fits, the angle histogram searched +-10 deg, one
- * rotation candidate, no coarse search, one ITCP run of at most 8
- * iterations over at most 64 points. It tracks motions its prediction
- * (the last motion, or a prior) brings within its 0.3 m search radius:
- * sensor-rate streams, not keyframes. */
+ * 1 deg, plain tangent fits at ITCP's points only, the angle histogram
+ * searched +-5 deg (only when the last motion did not predict its scan),
+ * one rotation candidate, no coarse search, ITCP without the held stage,
+ * at most 6 + 4 iterations over at most 40 points. It tracks motions its
+ * prediction (the last motion, or a prior) brings within its 0.15 m first
+ * search radius: sensor-rate streams, not keyframes. */
 void ego_defaults_bounded(ego_params_t *params);
 
 typedef struct {

@@ -119,7 +119,7 @@ int main(void)
          * (a step reads at most 256 bytes: never two whole telegrams), so
          * the bring-up bytes and the first scan, which has no motion, are
          * nobody's. */
-        if (!first_scan_done && ego_loop_stats(&loop)->scans > 0u && measured == 0u) {
+        if (!first_scan_done && ego_loop_stats(&loop)->scans > 0u) {
             last_mark = target_instructions();
             first_scan_done = true;
         }

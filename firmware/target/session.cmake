@@ -74,39 +74,28 @@ endif()
 # estimator is not on the interrupt's call path, so the worst-case stack,
 # interrupt on top of main loop, is exact); the linker takes it before the
 # library's.
-lmsego_target_image(session_irq_image ${CMAKE_CURRENT_SOURCE_DIR}/main_session.c
-    ${CMAKE_CURRENT_SOURCE_DIR}/report.c ${PROJECT_SOURCE_DIR}/firmware/ego_live.c
-    $<TARGET_OBJECTS:session_scene>)
-target_compile_definitions(session_irq_image PRIVATE SESSION_INTERRUPTS EGO_LIVE_DEFERRED_ONLY)
-target_link_libraries(session_irq_image PRIVATE ego_firmware lms_sim)
-add_test(NAME target_session_irq
-    COMMAND ${CMAKE_COMMAND} -DMODE=target
-        "-DEMULATOR=${CMAKE_CROSSCOMPILING_EMULATOR}"
-        -DIMAGE=$<TARGET_FILE:session_irq_image>
-        -DHOST=
-        -DOUT=${CMAKE_BINARY_DIR}/target_out/session_irq_image
-        -P ${PROJECT_SOURCE_DIR}/host_tests/session_image/run_session.cmake)
-set_tests_properties(target_session_irq PROPERTIES LABELS "target" TIMEOUT 300)
-if(session_indirect AND COMMAND lmsego_stack_check)
-    lmsego_stack_check(session_irq_image)
-endif()
+# lmsego_session_irq_image(IMAGE TEST [DEFINITIONS...]): that board as
+# IMAGE, run by ctest TEST, with its worst-case stack checked.
+function(lmsego_session_irq_image image test)
+    lmsego_target_image(${image} ${CMAKE_CURRENT_SOURCE_DIR}/main_session.c
+        ${CMAKE_CURRENT_SOURCE_DIR}/report.c ${PROJECT_SOURCE_DIR}/firmware/ego_live.c
+        $<TARGET_OBJECTS:session_scene>)
+    target_compile_definitions(${image} PRIVATE SESSION_INTERRUPTS EGO_LIVE_DEFERRED_ONLY ${ARGN})
+    target_link_libraries(${image} PRIVATE ego_firmware lms_sim)
+    add_test(NAME ${test}
+        COMMAND ${CMAKE_COMMAND} -DMODE=target
+            "-DEMULATOR=${CMAKE_CROSSCOMPILING_EMULATOR}"
+            -DIMAGE=$<TARGET_FILE:${image}>
+            -DHOST=
+            -DOUT=${CMAKE_BINARY_DIR}/target_out/${image}
+            -P ${PROJECT_SOURCE_DIR}/host_tests/session_image/run_session.cmake)
+    set_tests_properties(${test} PROPERTIES LABELS "target" TIMEOUT 300)
+    if(session_indirect AND COMMAND lmsego_stack_check)
+        lmsego_stack_check(${image})
+    endif()
+endfunction()
+lmsego_session_irq_image(session_irq_image target_session_irq)
 
 # The same real-time board with the bounded estimator profile (ego.h,
 # docs/firmware.md): it must keep up, every scan estimated and none skipped.
-lmsego_target_image(session_irq_bounded_image ${CMAKE_CURRENT_SOURCE_DIR}/main_session.c
-    ${CMAKE_CURRENT_SOURCE_DIR}/report.c ${PROJECT_SOURCE_DIR}/firmware/ego_live.c
-    $<TARGET_OBJECTS:session_scene>)
-target_compile_definitions(session_irq_bounded_image PRIVATE SESSION_INTERRUPTS
-    EGO_LIVE_DEFERRED_ONLY SESSION_BOUNDED)
-target_link_libraries(session_irq_bounded_image PRIVATE ego_firmware lms_sim)
-add_test(NAME target_session_irq_bounded
-    COMMAND ${CMAKE_COMMAND} -DMODE=target
-        "-DEMULATOR=${CMAKE_CROSSCOMPILING_EMULATOR}"
-        -DIMAGE=$<TARGET_FILE:session_irq_bounded_image>
-        -DHOST=
-        -DOUT=${CMAKE_BINARY_DIR}/target_out/session_irq_bounded_image
-        -P ${PROJECT_SOURCE_DIR}/host_tests/session_image/run_session.cmake)
-set_tests_properties(target_session_irq_bounded PROPERTIES LABELS "target" TIMEOUT 300)
-if(session_indirect AND COMMAND lmsego_stack_check)
-    lmsego_stack_check(session_irq_bounded_image)
-endif()
+lmsego_session_irq_image(session_irq_bounded_image target_session_irq_bounded SESSION_BOUNDED)
