@@ -18,18 +18,18 @@ void ego_defaults(ego_params_t *params)
 {
     memset(params, 0, sizeof *params);
     ego_prep_defaults(&params->prep);
-    tfit_defaults(&params->tfit);
-    hist_defaults(&params->hist);
-    itcp_defaults(&params->itcp);
+    ego_tfit_defaults(&params->tfit);
+    ego_hist_defaults(&params->hist);
+    ego_itcp_defaults(&params->itcp);
     params->use_coarse = true;
-    coarse_defaults(&params->coarse);
+    ego_coarse_defaults(&params->coarse);
     params->coarse_window_first = FX_Q16_16_C(4.0);
     params->coarse_step_first = FX_Q16_16_C(0.2);
     params->coarse_window_wide = FX_Q16_16_C(1.6);
     params->accept_fraction = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 6);
     params->stop_fraction = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 8);
-    params->max_rotation_bins = (uint16_t)(HIST_BINS / 4u); /* 45 deg */
-    params->merge_bins = (uint16_t)(HIST_BINS / 60u);       /* 3 deg */
+    params->max_rotation_bins = (uint16_t)(EGO_HIST_BINS / 4u); /* 45 deg */
+    params->merge_bins = (uint16_t)(EGO_HIST_BINS / 60u);       /* 3 deg */
     params->min_correlation = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 3);
     params->min_points = 20u;
     params->max_gap_us = 1000000u;
@@ -48,8 +48,8 @@ void ego_defaults_bounded(ego_params_t *params)
     ego_defaults(params);
     params->prep.beam_spacing_cdeg = 100u; /* 1 deg */
     params->tfit.passes = 0u;
-    params->hist.kind = HIST_AH;
-    params->max_rotation_bins = (uint16_t)(HIST_BINS / 36u); /* 5 deg */
+    params->hist.kind = EGO_HIST_AH;
+    params->max_rotation_bins = (uint16_t)(EGO_HIST_BINS / 36u); /* 5 deg */
     params->use_coarse = false;
     params->sweep_steps = 0u;
     params->hold_first = false;
@@ -128,27 +128,27 @@ static void keep_prediction_along(ego_pose_t *pose, const ego_pose_t *predicted,
 
 /* The paper's two ITCP stages from start: translation with the rotation
  * held, then everything. */
-static itcp_status_t register_from(const ego_scan_t *last, const ego_scan_t *current,
+static ego_itcp_status_t register_from(const ego_scan_t *last, const ego_scan_t *current,
                                    fx_bam32_t main_direction, const ego_pose_t *start,
-                                   const ego_params_t *params, itcp_result_t *r)
+                                   const ego_params_t *params, ego_itcp_result_t *r)
 {
     STAGE(EGO_STAGE_REGISTER);
     ego_pose_t second = *start;
     if (params->hold_first) {
-        itcp_result_t held;
-        const itcp_status_t st =
-            itcp_register(last, current, main_direction, start, true, &params->itcp, &held);
-        second = (st == ITCP_OK) ? held.pose : *start;
+        ego_itcp_result_t held;
+        const ego_itcp_status_t st =
+            ego_itcp_register(last, current, main_direction, start, true, &params->itcp, &held);
+        second = (st == EGO_ITCP_OK) ? held.pose : *start;
     }
-    const itcp_status_t result =
-        itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
+    const ego_itcp_status_t result =
+        ego_itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
     STAGE(EGO_STAGE_OTHER);
     return result;
 }
 
 /* Is one group too small to be judged on its own: under a fifth of the
  * points (a few points' fit is noise, not evidence). */
-static bool groups_lopsided(const itcp_result_t *r)
+static bool groups_lopsided(const ego_itcp_result_t *r)
 {
     const uint32_t p0 = r->group_points[0];
     const uint32_t p1 = r->group_points[1];
@@ -157,7 +157,7 @@ static bool groups_lopsided(const itcp_result_t *r)
 }
 
 /* The share over all points together. */
-static fx_q2_30_t pooled_share(const itcp_result_t *r)
+static fx_q2_30_t pooled_share(const ego_itcp_result_t *r)
 {
     const int64_t p0 = r->group_points[0];
     const int64_t p1 = r->group_points[1];
@@ -172,7 +172,7 @@ static fx_q2_30_t pooled_share(const itcp_result_t *r)
  * Judged per group because in a corridor the walls fit at any position
  * along it: a pose that fits the walls but not the few door frames and end
  * walls is wrong, however many inliers it has. */
-static fx_q2_30_t worst_share(const itcp_result_t *r)
+static fx_q2_30_t worst_share(const ego_itcp_result_t *r)
 {
     if (groups_lopsided(r)) {
         return pooled_share(r);
@@ -184,7 +184,7 @@ static fx_q2_30_t worst_share(const itcp_result_t *r)
 
 /* Mean inlier share of the two groups: equal weight per group, as in
  * eq. 10. */
-static fx_q2_30_t balanced_share(const itcp_result_t *r)
+static fx_q2_30_t balanced_share(const ego_itcp_result_t *r)
 {
     if (groups_lopsided(r)) {
         return pooled_share(r);
@@ -193,37 +193,37 @@ static fx_q2_30_t balanced_share(const itcp_result_t *r)
 }
 
 /* The coarse search around centre with cp, then ITCP from what it found. */
-static itcp_status_t search_from(const ego_scan_t *last, const ego_scan_t *current,
+static ego_itcp_status_t search_from(const ego_scan_t *last, const ego_scan_t *current,
                                  fx_bam32_t main_direction, const ego_pose_t *centre,
-                                 const coarse_params_t *cp, const ego_params_t *params,
-                                 itcp_result_t *r)
+                                 const ego_coarse_params_t *cp, const ego_params_t *params,
+                                 ego_itcp_result_t *r)
 {
     ego_pose_t found = *centre;
     uint64_t score = 0u;
     STAGE(EGO_STAGE_COARSE);
-    coarse_search(last, current, main_direction, centre, cp, &found, &score);
+    ego_coarse_search(last, current, main_direction, centre, cp, &found, &score);
     return register_from(last, current, main_direction, &found, params, r);
 }
 
 /* Is a registration good enough to stop looking: converged with at least
  * accept (or, for skipping the other rotation candidates, stop) of each
  * group's points as inliers. */
-static bool good_enough(const ego_params_t *params, itcp_status_t st, const itcp_result_t *r,
+static bool good_enough(const ego_params_t *params, ego_itcp_status_t st, const ego_itcp_result_t *r,
                         bool to_stop)
 {
     const fx_q2_30_t fraction = to_stop ? params->stop_fraction : params->accept_fraction;
-    return st == ITCP_OK && r->converged && worst_share(r) >= fraction;
+    return st == EGO_ITCP_OK && r->converged && worst_share(r) >= fraction;
 }
 
 /* Is a better than b: registered, a balanced inlier share larger by more
  * than margin, then (equal shares, no margin) a smaller residual. */
-static bool better(itcp_status_t sa, const itcp_result_t *a, itcp_status_t sb,
-                   const itcp_result_t *b, fx_q2_30_t margin)
+static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_status_t sb,
+                   const ego_itcp_result_t *b, fx_q2_30_t margin)
 {
-    if (sa != ITCP_OK) {
+    if (sa != EGO_ITCP_OK) {
         return false;
     }
-    if (sb != ITCP_OK) {
+    if (sb != EGO_ITCP_OK) {
         return true;
     }
     const fx_q2_30_t qa = balanced_share(a);
@@ -256,15 +256,15 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         return EGO_ERR_SCAN;
     }
     STAGE(EGO_STAGE_TANGENTS);
-    if (params->hist.kind == HIST_HTAH || params->use_coarse || params->itcp.tangent_gate) {
-        tfit_fit_scan(current, &params->tfit);
+    if (params->hist.kind == EGO_HIST_HTAH || params->use_coarse || params->itcp.tangent_gate) {
+        ego_tfit_fit_scan(current, &params->tfit);
     } else {
         /* Only ITCP's sample of the points needs a tangent (its groups). */
-        const uint16_t stride = itcp_sample_stride(current->count, params->itcp.max_points);
-        tfit_fit_scan_sample(current, &params->tfit, (uint16_t)(stride / 2u), stride);
+        const uint16_t stride = ego_itcp_sample_stride(current->count, params->itcp.max_points);
+        ego_tfit_fit_scan_sample(current, &params->tfit, (uint16_t)(stride / 2u), stride);
     }
     STAGE(EGO_STAGE_HISTOGRAM);
-    (void)hist_build(current, &params->hist, &state->hist[cur]);
+    (void)ego_hist_build(current, &params->hist, &state->hist[cur]);
     STAGE(EGO_STAGE_OTHER);
     out->points = current->count;
 
@@ -290,8 +290,8 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         /* Candidates: the prior's rotation (or, with prediction_first, a
          * trusted prediction's), the histogram's peaks, plus the predicted
          * rotation when the histogram is not trustworthy. */
-        fx_bam32_t rotation[HIST_MAX_CANDIDATES + 3u]; /* + prior, prediction, sweep */
-        fx_q2_30_t correlation[HIST_MAX_CANDIDATES + 3u];
+        fx_bam32_t rotation[EGO_HIST_MAX_CANDIDATES + 3u]; /* + prior, prediction, sweep */
+        fx_q2_30_t correlation[EGO_HIST_MAX_CANDIDATES + 3u];
         uint8_t n = 0u;
         const bool prediction_first = prior == NULL && have_prediction && params->prediction_first;
         if (prior != NULL || prediction_first) {
@@ -301,11 +301,11 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         }
         /* The histogram only when its candidates can be tried. */
         if (params->max_candidates == 0u || n < params->max_candidates) {
-            hist_match_t hm;
+            ego_hist_match_t hm;
             /* Around the prior's rotation, if any. */
             const fx_bam32_t expected = (prior != NULL) ? prior->theta : 0u;
             STAGE(EGO_STAGE_CORRELATE);
-            hist_correlate(&state->hist[cur], &state->hist[state->last], expected,
+            ego_hist_correlate(&state->hist[cur], &state->hist[state->last], expected,
                            params->max_rotation_bins, params->merge_bins, &hm);
             STAGE(EGO_STAGE_OTHER);
             if (n > 0u) {
@@ -325,9 +325,9 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
                 }
             }
         }
-        const fx_bam32_t main_direction = hist_main_direction(&state->hist[state->last]);
-        itcp_result_t best;
-        itcp_status_t best_status = ITCP_ERR_FEW_MATCHES;
+        const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
+        ego_itcp_result_t best;
+        ego_itcp_status_t best_status = EGO_ITCP_ERR_FEW_MATCHES;
         memset(&best, 0, sizeof best);
         uint8_t best_k = 0u;
         uint8_t tried = 0u;
@@ -336,9 +336,9 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         }
         for (uint8_t k = 0u; k < n && !good_enough(params, best_status, &best, true);
              k++) {
-            itcp_result_t r;
+            ego_itcp_result_t r;
             const ego_pose_t start = {rotation[k], predicted.x, predicted.y};
-            itcp_status_t st = register_from(last, current, main_direction, &start, params, &r);
+            ego_itcp_status_t st = register_from(last, current, main_direction, &start, params, &r);
             /* Cheap first: from the prediction. The coarse search only when
              * that did not give a good match: around the prediction, and
              * if that is still not good, over the wide window. */
@@ -346,15 +346,15 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
                 for (unsigned pass = have_prediction ? 0u : 1u;
                      pass < ((prior != NULL) ? 1u : 2u) && !good_enough(params, st, &r, false);
                      pass++) {
-                    coarse_params_t cp = params->coarse;
+                    ego_coarse_params_t cp = params->coarse;
                     if (pass == 1u && known_motion) {
                         cp.window = params->coarse_window_wide;
                     } else if (pass == 1u) { /* nothing known: wider, coarser */
                         cp.window = params->coarse_window_first;
                         cp.step = params->coarse_step_first;
                     }
-                    itcp_result_t rc;
-                    const itcp_status_t stc =
+                    ego_itcp_result_t rc;
+                    const ego_itcp_status_t stc =
                         search_from(last, current, main_direction, &start, &cp, params, &rc);
                     if (better(stc, &rc, st, &r, 0)) {
                         r = rc;
@@ -364,7 +364,7 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
             }
             tried++;
             /* Another rotation replaces the prior's only if clearly better. */
-            const bool against_prior = prior != NULL && best_k == 0u && best_status == ITCP_OK;
+            const bool against_prior = prior != NULL && best_k == 0u && best_status == EGO_ITCP_OK;
             if (better(st, &r, best_status, &best, against_prior ? params->prior_margin : 0)) {
                 best = r;
                 best_status = st;
@@ -376,13 +376,13 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
          * is broad and has one maximum); sweep the rotation instead. */
         if (prior == NULL && params->use_coarse && params->sweep_steps > 0u &&
             !good_enough(params, best_status, &best, false)) {
-            coarse_params_t cp = params->coarse;
+            ego_coarse_params_t cp = params->coarse;
             cp.window = known_motion ? params->coarse_window_wide : params->coarse_window_first;
             cp.step = params->coarse_step_first;
             cp.rotation_steps = params->sweep_steps;
             cp.rotation_step = params->sweep_step;
-            itcp_result_t r;
-            const itcp_status_t st =
+            ego_itcp_result_t r;
+            const ego_itcp_status_t st =
                 search_from(last, current, main_direction, &predicted, &cp, params, &r);
             tried++;
             if (better(st, &r, best_status, &best, 0)) {
@@ -393,7 +393,7 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
             }
         }
         out->candidates = tried;
-        if (best_status == ITCP_OK) {
+        if (best_status == EGO_ITCP_OK) {
             matched = true;
             out->pose = best.pose;
             out->iterations = best.iterations;

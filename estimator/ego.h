@@ -3,16 +3,16 @@
  * docs/estimator.md).
  *
  * Per scan:
- *  1. prepare the points (ego_scan.h) and their robust tangents (tfit.h);
- *  2. build the current scan's angle histogram (hist.h, HTAH by default)
- *     and correlate it with the last scan's: up to HIST_MAX_CANDIDATES
+ *  1. prepare the points (ego_scan.h) and their robust tangents (ego_tfit.h);
+ *  2. build the current scan's angle histogram (ego_hist.h, HTAH by default)
+ *     and correlate it with the last scan's: up to EGO_HIST_MAX_CANDIDATES
  *     rotation candidates, best first;
  *  3. for each candidate, best first: ITCP with the rotation held
  *     (translation only) from the predicted motion (the prior if given,
- *     else the last motion), then full ITCP (itcp.h). When that is not
+ *     else the last motion), then full ITCP (ego_itcp.h). When that is not
  *     good enough (not converged, or a group below accept_fraction, see
  *     below), a bounded coarse search of the translation and a small
- *     rotation correction (coarse.h) around the prediction, then the same
+ *     rotation correction (ego_coarse.h) around the prediction, then the same
  *     ITCP; without a prior, if still not good enough, the coarse search
  *     over the wide window. The prediction is skipped (wide window at once)
  *     when the last motion did not itself come out within trust_* of its
@@ -37,7 +37,7 @@
  * A time gap longer than max_gap_us, a reset or the first scan start over:
  * flag EGO_FLAG_FIRST, no motion.
  *
- * Static memory: ego_state_t is about 2 x (ego_scan_t + hist_t); see
+ * Static memory: ego_state_t is about 2 x (ego_scan_t + ego_hist_t); see
  * docs/estimator.md for the figures. Not reentrant per state.
  */
 #ifndef EGO_H
@@ -46,13 +46,13 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "coarse.h"
+#include "ego_coarse.h"
 #include "ego_pose.h"
 #include "ego_scan.h"
-#include "hist.h"
-#include "itcp.h"
+#include "ego_hist.h"
+#include "ego_itcp.h"
 #include "lms_decode.h"
-#include "tfit.h"
+#include "ego_tfit.h"
 
 /* Output flags. */
 #define EGO_FLAG_FIRST 0x01u           /* first scan, reset or gap: no motion */
@@ -64,11 +64,11 @@
 
 typedef struct {
     ego_prep_params_t prep;
-    tfit_params_t tfit;
-    hist_params_t hist;
+    ego_tfit_params_t tfit;
+    ego_hist_params_t hist;
     itcp_params_t itcp;
     bool use_coarse;             /* coarse translation search before ITCP; default on */
-    coarse_params_t coarse;      /* its window is centred on the prediction */
+    ego_coarse_params_t coarse;      /* its window is centred on the prediction */
     fx_q16_16_t coarse_window_first; /* window when no motion is known yet (first pair, or
                                         after a failed match), default 4 m ... */
     fx_q16_16_t coarse_step_first;   /* ... searched at this step, default 0.2 m */
@@ -116,7 +116,7 @@ void ego_defaults_bounded(ego_params_t *params);
 typedef struct {
     /* Private. */
     ego_scan_t slot[2];
-    hist_t hist[2];
+    ego_hist_t hist[2];
     uint8_t last;            /* slot of the last scan */
     bool have_last;
     uint32_t last_time_us;

@@ -7,8 +7,8 @@
 #ifndef EGO_POSE_H
 #define EGO_POSE_H
 
-#include "fx.h"
-#include "fx_math.h"
+#include "ego_fx.h"
+#include "ego_fx_math.h"
 
 typedef struct {
     fx_bam32_t theta; /* rotation, binary angle (signed via fx_bam32_diff) */

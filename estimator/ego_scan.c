@@ -4,7 +4,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "fx_math.h"
+#include "ego_fx_math.h"
 
 /* 0.01 deg in radians, Q2.30: round(pi / 18000 * 2^30). */
 #define CDEG_RAD_Q30 187403

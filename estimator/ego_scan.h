@@ -2,7 +2,7 @@
  *
  * One ego_scan_t holds a whole prepared scan: Cartesian points (x forward,
  * y left, metres, Q16.16) in the vehicle frame, in scan order, with the
- * segment structure the later stages need, and (filled by tfit.h) a robust
+ * segment structure the later stages need, and (filled by ego_tfit.h) a robust
  * tangent per point. Special values (no return, dazzle, beyond max, ...)
  * and ranges outside [min_range, max_range] give no point; the gap they
  * leave breaks the segment.
@@ -28,7 +28,7 @@
 #include <stdint.h>
 
 #include "ego_config.h"
-#include "fx.h"
+#include "ego_fx.h"
 #include "lms_decode.h"
 
 /* flags[i]: the link from point i to point i + 1. */
@@ -50,7 +50,7 @@ typedef struct {
                                             vehicle frame; increases along
                                             the scan */
     uint8_t flags[EGO_MAX_POINTS];       /* EGO_LINK_* | EGO_POINT_* */
-    /* Filled by tfit_fit_scan (tfit.h). */
+    /* Filled by ego_tfit_fit_scan (ego_tfit.h). */
     fx_bam32_t tangent[EGO_MAX_POINTS];  /* direction mod 180 deg: bit 31 is 0 */
     uint16_t tangent_rms[EGO_MAX_POINTS];/* weighted RMS residual of the fit,
                                             Q16.16 metres saturated to 65535 */

@@ -224,12 +224,12 @@ static uint32_t hal_now_us(void *ctx)
     return 0u; /* replay times scans by their index and the period */
 }
 
-static int parse_hist(const char *text, hist_kind_t *kind)
+static int parse_hist(const char *text, ego_hist_kind_t *kind)
 {
     static const struct {
         const char *name;
-        hist_kind_t kind;
-    } kinds[] = {{"AH", HIST_AH}, {"LAH", HIST_LAH}, {"HAH", HIST_HAH}, {"HTAH", HIST_HTAH}};
+        ego_hist_kind_t kind;
+    } kinds[] = {{"AH", EGO_HIST_AH}, {"LAH", EGO_HIST_LAH}, {"HAH", EGO_HIST_HAH}, {"HTAH", EGO_HIST_HTAH}};
     for (size_t k = 0u; k < sizeof kinds / sizeof kinds[0]; k++) {
         if (strcmp(text, kinds[k].name) == 0) {
             *kind = kinds[k].kind;

@@ -5,12 +5,12 @@
  *   exp_hist STREAM TRUTH.pairs
  *
  * For every consecutive pair: both scans prepared and fitted (ego_scan,
- * tfit), each histogram kind built and correlated (hist.h, +-45 deg), the
+ * tfit), each histogram kind built and correlated (ego_hist.h, +-45 deg), the
  * best candidate's rotation compared with the truth's dtheta. HAH+AOI
  * builds both scans of a pair over the angles where the last scan's plain
  * AH has at least 2 votes, widened by 5 deg (its time is one scan's). Prints one
  * line per kind: mean, std and max rotation error (deg), and the median
- * time of hist_build per scan (clock_gettime; Release builds only mean
+ * time of ego_hist_build per scan (clock_gettime; Release builds only mean
  * anything). Host-only.
  */
 #include <math.h>
@@ -29,10 +29,10 @@
 static lms_scan_t scans[MAX_SCANS];
 static double truth_theta[MAX_SCANS]; /* of scan j relative to j - 1 */
 static ego_scan_t prepared[2];
-static hist_t hists[KINDS][2];
+static ego_hist_t hists[KINDS][2];
 static double err[KINDS][MAX_SCANS];
 static double build_s[KINDS][MAX_SCANS];
-static uint8_t aoi[HIST_BINS];
+static uint8_t aoi[EGO_HIST_BINS];
 
 static void load_truth(const char *path)
 {
@@ -97,16 +97,16 @@ int main(int argc, char **argv)
     static ego_params_t params;
     ego_defaults(&params);
     static const char *const names[KINDS] = {"AH", "LAH", "HAH", "HAH+AOI", "HTAH"};
-    static const hist_kind_t kinds[KINDS] = {HIST_AH, HIST_LAH, HIST_HAH, HIST_HAH, HIST_HTAH};
+    static const ego_hist_kind_t kinds[KINDS] = {EGO_HIST_AH, EGO_HIST_LAH, EGO_HIST_HAH, EGO_HIST_HAH, EGO_HIST_HTAH};
     for (size_t k = 0u; k < n; k++) {
         const unsigned cur = (unsigned)(k % 2u);
         if (ego_scan_prepare(&scans[k], &params.prep, &prepared[cur]) != EGO_PREP_OK) {
             (void)fprintf(stderr, "exp_hist: scan %zu has no layout\n", k);
             return 1;
         }
-        tfit_fit_scan(&prepared[cur], &params.tfit);
+        ego_tfit_fit_scan(&prepared[cur], &params.tfit);
         for (unsigned m = 0u; m < KINDS; m++) {
-            hist_params_t hp = params.hist;
+            ego_hist_params_t hp = params.hist;
             hp.kind = kinds[m];
             if (m == 3u) {
                 /* Angle of interest: where the last scan's plain AH has at
@@ -114,22 +114,22 @@ int main(int argc, char **argv)
                 if (k == 0u) {
                     hp.aoi = NULL;
                 } else {
-                    hist_aoi_mask(&hists[0][1u - cur], 2u, 25u, aoi);
+                    ego_hist_aoi_mask(&hists[0][1u - cur], 2u, 25u, aoi);
                     hp.aoi = aoi;
                 }
             }
             const double t0 = seconds_now();
-            (void)hist_build(&prepared[cur], &hp, &hists[m][cur]);
+            (void)ego_hist_build(&prepared[cur], &hp, &hists[m][cur]);
             build_s[m][k] = seconds_now() - t0;
             if (k == 0u) {
                 continue;
             }
             if (m == 3u) {
                 /* Both scans of the pair over the same angles of interest. */
-                (void)hist_build(&prepared[1u - cur], &hp, &hists[m][1u - cur]);
+                (void)ego_hist_build(&prepared[1u - cur], &hp, &hists[m][1u - cur]);
             }
-            hist_match_t match;
-            hist_correlate(&hists[m][cur], &hists[m][1u - cur], 0u, params.max_rotation_bins,
+            ego_hist_match_t match;
+            ego_hist_correlate(&hists[m][cur], &hists[m][1u - cur], 0u, params.max_rotation_bins,
                            params.merge_bins, &match);
             double got = 0.0;
             if (match.count > 0u) {

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "fx.h"
+#include "ego_fx.h"
 
 #define FX_HOST_PI 3.14159265358979323846
 

@@ -1,5 +1,5 @@
 /* tfit_ref.c - see tfit_ref.h. Written straight from the equations, with
- * no attention to cost, as the oracle of estimator/tfit.c. */
+ * no attention to cost, as the oracle of estimator/ego_tfit.c. */
 #include "tfit_ref.h"
 
 #include <math.h>

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""gen_fx_tables.py - writes estimator/fx_math_tables.h (the tables of fx_math.c).
+"""gen_fx_tables.py - writes estimator/ego_fx_math_tables.h (the tables of ego_fx_math.c).
 
-    python3 host_tests/tools/gen_fx_tables.py > estimator/fx_math_tables.h
+    python3 host_tests/tools/gen_fx_tables.py > estimator/ego_fx_math_tables.h
     python3 host_tests/tools/gen_fx_tables.py --check     # design figures, stderr
 
 Standard library only. Every value is computed with decimal arithmetic at 60
@@ -156,7 +156,7 @@ def shr_round(v, s):
 
 
 def atan_eval(t, shifts, rows):
-    """Bit-exact model of atan_unit() in fx_math.c. t: Q0.32 in [0, 2^32)."""
+    """Bit-exact model of atan_unit() in ego_fx_math.c. t: Q0.32 in [0, 2^32)."""
     s1, s2, s3 = shifts
     c0, c1, c2, c3 = rows[t >> 25]
     u = (t & 0x01FFFFFF) << 6
@@ -203,12 +203,12 @@ def check(sin_q31, shifts, rows, segs):
 
 def emit(sin_q31, shifts, rows):
     w = sys.stdout.write
-    w("/* fx_math_tables.h - tables of fx_math.c (static const, flash). GENERATED,\n"
+    w("/* ego_fx_math_tables.h - tables of ego_fx_math.c (static const, flash). GENERATED,\n"
       " * do not edit; regenerate with\n"
       " *\n"
-      " *   python3 host_tests/tools/gen_fx_tables.py > estimator/fx_math_tables.h\n"
+      " *   python3 host_tests/tools/gen_fx_tables.py > estimator/ego_fx_math_tables.h\n"
       " *\n"
-      " * Included by fx_math.c only. docs/fixed-point.md describes the kernels.\n"
+      " * Included by ego_fx_math.c only. docs/fixed-point.md describes the kernels.\n"
       " */\n"
       "#ifndef FX_MATH_TABLES_H\n"
       "#define FX_MATH_TABLES_H\n"

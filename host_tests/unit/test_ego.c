@@ -1,4 +1,4 @@
-/* test_ego.c - the coarse translation search (estimator/coarse.c) and the
+/* test_ego.c - the coarse translation search (estimator/ego_coarse.c) and the
  * per-scan pipeline (estimator/ego.c) on ray-cast scans with known motion:
  * first scan, velocities from the scan times, large motions, time gaps,
  * too few points, the slots swapping. */
@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "coarse.h"
+#include "ego_coarse.h"
 #include "ego.h"
 #include "fx_host.h"
 #include "synth_scan.h"
@@ -49,13 +49,13 @@ static void test_coarse_search_finds_a_large_translation(void)
 {
     prepared(0.0, 0.0, 0.0, &g_last);
     prepared(1.3, -0.9, 0.0, &g_current);
-    coarse_params_t p;
-    coarse_defaults(&p);
+    ego_coarse_params_t p;
+    ego_coarse_defaults(&p);
     p.window = FX_Q16_16_C(2.0);
     const ego_pose_t centre = {0u, 0, 0};
     ego_pose_t best;
     uint64_t score = 0u;
-    coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
+    ego_coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
     char msg[96];
     (void)snprintf(msg, sizeof msg, "found (%.3f, %.3f, %.3f deg)", fx_q16_16_to_double(best.x),
                    fx_q16_16_to_double(best.y), rad_of(best.theta) * 180.0 / FX_HOST_PI);
@@ -67,7 +67,7 @@ static void test_coarse_search_finds_a_large_translation(void)
 
     /* A window too small to contain the motion cannot reach it. */
     p.window = FX_Q16_16_C(0.4);
-    coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
+    ego_coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
     TEST_ASSERT_TRUE(fx_q16_16_to_double(best.x) < 0.7);
 }
 
@@ -75,13 +75,13 @@ static void test_coarse_search_corrects_a_small_rotation(void)
 {
     prepared(0.0, 0.0, 0.0, &g_last);
     prepared(0.6, 0.3, 2.0, &g_current);
-    coarse_params_t p;
-    coarse_defaults(&p);
+    ego_coarse_params_t p;
+    ego_coarse_defaults(&p);
     p.window = FX_Q16_16_C(1.0);
     const ego_pose_t centre = {0u, 0, 0}; /* 2 deg off */
     ego_pose_t best;
     uint64_t score = 0u;
-    coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
+    ego_coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
     TEST_ASSERT_EQUAL_UINT32(FX_BAM32_DEG_C(2.0), best.theta); /* the +1 step */
     TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(best.x) - 0.6) <= 0.06);
 }
@@ -90,12 +90,12 @@ static void test_coarse_search_without_points_keeps_the_centre(void)
 {
     memset(&g_last, 0, sizeof g_last);
     prepared(0.0, 0.0, 0.0, &g_current);
-    coarse_params_t p;
-    coarse_defaults(&p);
+    ego_coarse_params_t p;
+    ego_coarse_defaults(&p);
     const ego_pose_t centre = {77u, 123, -456};
     ego_pose_t best;
     uint64_t score = 9u;
-    coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
+    ego_coarse_search(&g_last, &g_current, 0u, &centre, &p, &best, &score);
     TEST_ASSERT_TRUE(score == 0u);
     TEST_ASSERT_EQUAL_MEMORY(&centre, &best, sizeof best);
 }

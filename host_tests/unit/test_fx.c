@@ -1,4 +1,4 @@
-/* test_fx.c - the inline helpers and constant macros of fx.h: rounding
+/* test_fx.c - the inline helpers and constant macros of ego_fx.h: rounding
  * shift over its whole shift range and the int64 edges (INT64_MIN and
  * INT64_MAX included), ties, saturation, the Q16.16 and Q16.16 x Q2.30
  * products, saturating add/sub, the binary-angle difference over the wrap,
@@ -10,7 +10,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "fx.h"
+#include "ego_fx.h"
 #include "unity.h"
 
 void setUp(void)

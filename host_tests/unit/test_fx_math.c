@@ -1,5 +1,5 @@
 /* test_fx_math.c - fx_sincos / fx_sin / fx_cos, fx_atan2 and fx_sqrt_u64
- * (fx_math.h) against references computed on the host.
+ * (ego_fx_math.h) against references computed on the host.
  *
  * References:
  *  - sin, cos, atan2: long double (x86-64: 64-bit mantissa) sinl, cosl,
@@ -32,7 +32,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fx_math.h"
+#include "ego_fx_math.h"
 #include "unity.h"
 
 static bool exhaustive;

@@ -1,4 +1,4 @@
-/* test_hist.c - angle histograms and their correlation (estimator/hist.c):
+/* test_hist.c - angle histograms and their correlation (estimator/ego_hist.c):
  * bin geometry, the four histogram kinds on constructed scans, and the
  * correlation against a double-precision evaluation of eq. 5. */
 #include <math.h>
@@ -6,10 +6,10 @@
 #include <string.h>
 
 #include "fx_host.h"
-#include "fx_math.h"
-#include "hist.h"
+#include "ego_fx_math.h"
+#include "ego_hist.h"
 #include "synth_scan.h"
-#include "tfit.h"
+#include "ego_tfit.h"
 #include "unity.h"
 
 void setUp(void)
@@ -23,9 +23,9 @@ void tearDown(void)
 static lms_scan_t g_lms;
 static ego_scan_t g_last;
 static ego_scan_t g_current;
-static hist_t g_hl;
-static hist_t g_hc;
-static hist_t g_h2;
+static ego_hist_t g_hl;
+static ego_hist_t g_hc;
+static ego_hist_t g_h2;
 
 static double deg_of_bam(int32_t signed_bam)
 {
@@ -40,44 +40,44 @@ static void room_scan(double x, double y, double heading_deg, unsigned count, eg
     ego_prep_params_t prep;
     ego_prep_defaults(&prep);
     TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, &prep, scan));
-    tfit_params_t fit;
-    tfit_defaults(&fit);
-    tfit_fit_scan(scan, &fit);
+    ego_tfit_params_t fit;
+    ego_tfit_defaults(&fit);
+    ego_tfit_fit_scan(scan, &fit);
 }
 
 static void test_hist_bin_geometry(void)
 {
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
-        const fx_bam32_t c = hist_bin_centre(b);
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
+        const fx_bam32_t c = ego_hist_bin_centre(b);
         TEST_ASSERT_EQUAL_UINT32(0u, c >> 31);
-        TEST_ASSERT_EQUAL_UINT16(b, hist_bin_of(c));
-        TEST_ASSERT_EQUAL_UINT16(b, hist_bin_of(c + FX_BAM32_HALF)); /* lines: mod 180 */
+        TEST_ASSERT_EQUAL_UINT16(b, ego_hist_bin_of(c));
+        TEST_ASSERT_EQUAL_UINT16(b, ego_hist_bin_of(c + FX_BAM32_HALF)); /* lines: mod 180 */
     }
-    TEST_ASSERT_EQUAL_UINT16(0u, hist_bin_of(0u));
-    TEST_ASSERT_EQUAL_UINT16(HIST_BINS - 1u, hist_bin_of(FX_BAM32_HALF - 1u));
-    TEST_ASSERT_EQUAL_UINT16(HIST_BINS / 2u, hist_bin_of(FX_BAM32_QUARTER));
+    TEST_ASSERT_EQUAL_UINT16(0u, ego_hist_bin_of(0u));
+    TEST_ASSERT_EQUAL_UINT16(EGO_HIST_BINS - 1u, ego_hist_bin_of(FX_BAM32_HALF - 1u));
+    TEST_ASSERT_EQUAL_UINT16(EGO_HIST_BINS / 2u, ego_hist_bin_of(FX_BAM32_QUARTER));
 }
 
 static void test_hist_ah_of_a_room_peaks_at_the_walls(void)
 {
     room_scan(0.0, 0.0, 0.0, 361u, &g_current);
-    hist_params_t p;
-    hist_defaults(&p);
-    p.kind = HIST_AH;
-    const uint32_t votes = hist_build(&g_current, &p, &g_hc);
+    ego_hist_params_t p;
+    ego_hist_defaults(&p);
+    p.kind = EGO_HIST_AH;
+    const uint32_t votes = ego_hist_build(&g_current, &p, &g_hc);
     TEST_ASSERT_TRUE(votes > 200u);
     /* Walls along x (0 deg) and y (90 deg) dominate. */
-    const uint16_t main_bin = hist_bin_of(hist_main_direction(&g_hc));
+    const uint16_t main_bin = ego_hist_bin_of(ego_hist_main_direction(&g_hc));
     /* cm ranges 4-9 cm apart scatter plain segment directions by degrees
      * (the paper's reason for HTAH): within 5 bins of a wall is enough. */
-    const uint16_t off0 = (uint16_t)((main_bin < HIST_BINS / 2u) ? main_bin : HIST_BINS - main_bin);
+    const uint16_t off0 = (uint16_t)((main_bin < EGO_HIST_BINS / 2u) ? main_bin : EGO_HIST_BINS - main_bin);
     const uint16_t off90 =
-        (uint16_t)((main_bin > HIST_BINS / 2u) ? main_bin - HIST_BINS / 2u : HIST_BINS / 2u - main_bin);
+        (uint16_t)((main_bin > EGO_HIST_BINS / 2u) ? main_bin - EGO_HIST_BINS / 2u : EGO_HIST_BINS / 2u - main_bin);
     TEST_ASSERT_TRUE(off0 <= 5u || off90 <= 5u);
-    p.kind = HIST_LAH;
-    TEST_ASSERT_EQUAL_UINT32(votes, hist_build(&g_current, &p, &g_h2));
+    p.kind = EGO_HIST_LAH;
+    TEST_ASSERT_EQUAL_UINT32(votes, ego_hist_build(&g_current, &p, &g_h2));
     uint64_t total_mm = 0u;
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         total_mm += g_h2.bin[b];
     }
     /* The surfaces seen add up to tens of metres. */
@@ -87,50 +87,50 @@ static void test_hist_ah_of_a_room_peaks_at_the_walls(void)
 static void test_hist_htah_votes_within_hah(void)
 {
     room_scan(0.5, -0.3, 10.0, 361u, &g_current);
-    hist_params_t p;
-    hist_defaults(&p);
-    p.kind = HIST_HTAH;
-    const uint32_t htah_votes = hist_build(&g_current, &p, &g_hc);
-    p.kind = HIST_HAH;
-    const uint32_t hah_votes = hist_build(&g_current, &p, &g_h2);
+    ego_hist_params_t p;
+    ego_hist_defaults(&p);
+    p.kind = EGO_HIST_HTAH;
+    const uint32_t htah_votes = ego_hist_build(&g_current, &p, &g_hc);
+    p.kind = EGO_HIST_HAH;
+    const uint32_t hah_votes = ego_hist_build(&g_current, &p, &g_h2);
     TEST_ASSERT_TRUE(htah_votes > 0u);
     /* HTAH tries a contiguous run from the tangent; HAH tries every bin
      * with the same test: HTAH's votes are a subset, bin by bin. */
     TEST_ASSERT_TRUE(htah_votes <= hah_votes);
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         TEST_ASSERT_TRUE_MESSAGE(g_hc.bin[b] <= g_h2.bin[b], "HTAH voted where HAH did not");
     }
     /* The angle of interest restricts HAH to the masked bins. */
-    static uint8_t mask[HIST_BINS];
-    hist_t ah;
-    p.kind = HIST_AH;
-    (void)hist_build(&g_current, &p, &ah);
-    hist_aoi_mask(&ah, 3u, 10u, mask);
-    p.kind = HIST_HAH;
+    static uint8_t mask[EGO_HIST_BINS];
+    ego_hist_t ah;
+    p.kind = EGO_HIST_AH;
+    (void)ego_hist_build(&g_current, &p, &ah);
+    ego_hist_aoi_mask(&ah, 3u, 10u, mask);
+    p.kind = EGO_HIST_HAH;
     p.aoi = mask;
-    const uint32_t aoi_votes = hist_build(&g_current, &p, &g_hl);
+    const uint32_t aoi_votes = ego_hist_build(&g_current, &p, &g_hl);
     TEST_ASSERT_TRUE(aoi_votes > 0u && aoi_votes <= hah_votes);
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         TEST_ASSERT_TRUE(mask[b] ? g_hl.bin[b] == g_h2.bin[b] : g_hl.bin[b] == 0u);
     }
 }
 
 /* Eq. 5 in doubles for shift j. */
-static double ref_correlation(const hist_t *c, const hist_t *l, int j)
+static double ref_correlation(const ego_hist_t *c, const ego_hist_t *l, int j)
 {
     double mc = 0.0;
     double ml = 0.0;
-    for (unsigned i = 0u; i < HIST_BINS; i++) {
+    for (unsigned i = 0u; i < EGO_HIST_BINS; i++) {
         mc += c->bin[i];
         ml += l->bin[i];
     }
-    mc /= HIST_BINS;
-    ml /= HIST_BINS;
+    mc /= EGO_HIST_BINS;
+    ml /= EGO_HIST_BINS;
     double num = 0.0;
     double sc = 0.0;
     double sl = 0.0;
-    for (unsigned i = 0u; i < HIST_BINS; i++) {
-        const unsigned k = (unsigned)(((int)i + j + 2 * (int)HIST_BINS) % (int)HIST_BINS);
+    for (unsigned i = 0u; i < EGO_HIST_BINS; i++) {
+        const unsigned k = (unsigned)(((int)i + j + 2 * (int)EGO_HIST_BINS) % (int)EGO_HIST_BINS);
         num += (c->bin[i] - mc) * (l->bin[k] - ml);
         sc += (c->bin[i] - mc) * (c->bin[i] - mc);
         sl += (l->bin[i] - ml) * (l->bin[i] - ml);
@@ -138,18 +138,18 @@ static double ref_correlation(const hist_t *c, const hist_t *l, int j)
     return num / sqrt(sc * sl);
 }
 
-static void check_rotation(hist_kind_t kind, double theta_deg, double tolerance_deg)
+static void check_rotation(ego_hist_kind_t kind, double theta_deg, double tolerance_deg)
 {
     /* Same place, the vehicle turned by theta: R(theta) P = P'. */
     room_scan(0.2, 0.1, 0.0, 361u, &g_last);
     room_scan(0.2, 0.1, theta_deg, 361u, &g_current);
-    hist_params_t p;
-    hist_defaults(&p);
+    ego_hist_params_t p;
+    ego_hist_defaults(&p);
     p.kind = kind;
-    (void)hist_build(&g_last, &p, &g_hl);
-    (void)hist_build(&g_current, &p, &g_hc);
-    hist_match_t m;
-    hist_correlate(&g_hc, &g_hl, 0u, 250u, 15u, &m);
+    (void)ego_hist_build(&g_last, &p, &g_hl);
+    (void)ego_hist_build(&g_current, &p, &g_hc);
+    ego_hist_match_t m;
+    ego_hist_correlate(&g_hc, &g_hl, 0u, 250u, 15u, &m);
     TEST_ASSERT_TRUE(m.count >= 1u);
     const double got = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u));
     char msg[96];
@@ -157,7 +157,7 @@ static void check_rotation(hist_kind_t kind, double theta_deg, double tolerance_
     TEST_ASSERT_TRUE_MESSAGE(fabs(got - theta_deg) < tolerance_deg, msg);
 
     /* The peak's correlation value against eq. 5 in doubles. */
-    const int j = (int)lround(got * HIST_BINS / 180.0);
+    const int j = (int)lround(got * EGO_HIST_BINS / 180.0);
     double best = -2.0;
     for (int k = j - 1; k <= j + 1; k++) {
         const double r = ref_correlation(&g_hc, &g_hl, k);
@@ -180,13 +180,13 @@ static void test_hist_correlation_finds_the_rotation(void)
      * about half a degree (the later stages refine the rotation). */
     const double thetas[] = {0.0, 3.3, -7.71, 25.07};
     for (unsigned k = 0u; k < 4u; k++) {
-        check_rotation(HIST_HTAH, thetas[k], 0.1);
-        check_rotation(HIST_HAH, thetas[k], 0.1);
-        check_rotation(HIST_LAH, thetas[k], 0.5);
+        check_rotation(EGO_HIST_HTAH, thetas[k], 0.1);
+        check_rotation(EGO_HIST_HAH, thetas[k], 0.1);
+        check_rotation(EGO_HIST_LAH, thetas[k], 0.5);
     }
-    check_rotation(HIST_HTAH, -40.0, 1.0);
-    check_rotation(HIST_HAH, -40.0, 1.0);
-    check_rotation(HIST_LAH, -40.0, 1.0);
+    check_rotation(EGO_HIST_HTAH, -40.0, 1.0);
+    check_rotation(EGO_HIST_HAH, -40.0, 1.0);
+    check_rotation(EGO_HIST_LAH, -40.0, 1.0);
 }
 
 static void test_hist_flat_histogram_gives_no_candidate(void)
@@ -194,13 +194,13 @@ static void test_hist_flat_histogram_gives_no_candidate(void)
     memset(&g_hc, 0, sizeof g_hc);
     memset(&g_hl, 0, sizeof g_hl);
     g_hl.bin[3] = 10u;
-    hist_match_t m;
-    hist_correlate(&g_hc, &g_hl, 0u, 100u, 5u, &m);
+    ego_hist_match_t m;
+    ego_hist_correlate(&g_hc, &g_hl, 0u, 100u, 5u, &m);
     TEST_ASSERT_EQUAL_UINT8(0u, m.count);
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         g_hc.bin[b] = 7u;
     }
-    hist_correlate(&g_hc, &g_hl, 0u, 100u, 5u, &m);
+    ego_hist_correlate(&g_hc, &g_hl, 0u, 100u, 5u, &m);
     TEST_ASSERT_EQUAL_UINT8(0u, m.count);
 }
 
@@ -213,14 +213,14 @@ static void test_hist_correlation_of_a_shifted_copy(void)
     g_hl.bin[100] = 4000000000u;
     g_hl.bin[101] = 2000000000u;
     g_hl.bin[500] = 3000000000u;
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
-        g_hc.bin[b] = g_hl.bin[(b + 37u) % HIST_BINS];
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
+        g_hc.bin[b] = g_hl.bin[(b + 37u) % EGO_HIST_BINS];
     }
-    hist_match_t m;
-    hist_correlate(&g_hc, &g_hl, 0u, HIST_BINS / 2u, 5u, &m);
+    ego_hist_match_t m;
+    ego_hist_correlate(&g_hc, &g_hl, 0u, EGO_HIST_BINS / 2u, 5u, &m);
     TEST_ASSERT_TRUE(m.count >= 1u);
     const double got = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u));
-    TEST_ASSERT_TRUE(fabs(got - 37.0 * 180.0 / HIST_BINS) < 0.1);
+    TEST_ASSERT_TRUE(fabs(got - 37.0 * 180.0 / EGO_HIST_BINS) < 0.1);
     TEST_ASSERT_INT32_WITHIN(2000, 1073741824, m.candidate[0].correlation);
 }
 
@@ -234,22 +234,22 @@ static void test_hist_correlation_around_a_centre(void)
     g_hl.bin[40] = 900u;
     g_hl.bin[41] = 500u;
     g_hl.bin[300] = 700u;
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
-        g_hc.bin[b] = g_hl.bin[(b + 600u) % HIST_BINS];
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
+        g_hc.bin[b] = g_hl.bin[(b + 600u) % EGO_HIST_BINS];
     }
-    hist_match_t m;
-    hist_correlate(&g_hc, &g_hl, FX_BAM32_DEG_C(110.0), 225u, 5u, &m);
+    ego_hist_match_t m;
+    ego_hist_correlate(&g_hc, &g_hl, FX_BAM32_DEG_C(110.0), 225u, 5u, &m);
     TEST_ASSERT_TRUE(m.count >= 1u);
     const double got = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u));
     TEST_ASSERT_TRUE(fabs(got - 120.0) < 0.1);
     TEST_ASSERT_TRUE(m.candidate[0].correlation > 1073741824 / 1000 * 999); /* c = 1 */
     /* A centre on the other side of zero: -250 deg is 110 deg. */
-    hist_correlate(&g_hc, &g_hl, FX_BAM32_DEG_C(-250.0), 225u, 5u, &m);
+    ego_hist_correlate(&g_hc, &g_hl, FX_BAM32_DEG_C(-250.0), 225u, 5u, &m);
     TEST_ASSERT_TRUE(m.count >= 1u);
     TEST_ASSERT_TRUE(fabs(deg_of_bam(fx_bam32_diff(m.candidate[0].rotation,
                                                      FX_BAM32_DEG_C(120.0)))) < 0.1);
     /* Around 0 with +-45 deg the true shift is out of reach. */
-    hist_correlate(&g_hc, &g_hl, 0u, 225u, 5u, &m);
+    ego_hist_correlate(&g_hc, &g_hl, 0u, 225u, 5u, &m);
     for (uint8_t k = 0u; k < m.count; k++) {
         const double r = deg_of_bam(fx_bam32_diff(m.candidate[k].rotation, 0u));
         TEST_ASSERT_TRUE(fabs(r - 120.0) > 1.0 && fabs(r + 60.0) > 1.0);
@@ -280,27 +280,27 @@ static void test_hist_correlation_of_sparse_and_dense_histograms(void)
         memset(&g_hc, 0, sizeof g_hc);
         for (unsigned r = 0u; r < runs; r++) {
             const unsigned start =
-                (r == 0u) ? HIST_BINS - 2u : next_in(&rng, 0u, HIST_BINS - 1u);
+                (r == 0u) ? EGO_HIST_BINS - 2u : next_in(&rng, 0u, EGO_HIST_BINS - 1u);
             const unsigned length = next_in(&rng, 1u, 4u);
             for (unsigned k = 0u; k < length; k++) {
-                g_hl.bin[(start + k) % HIST_BINS] = next_in(&rng, 1u, 5000u);
+                g_hl.bin[(start + k) % EGO_HIST_BINS] = next_in(&rng, 1u, 5000u);
             }
         }
         const int shift = (int)next_in(&rng, 0u, 400u) - 200;
-        for (unsigned b = 0u; b < HIST_BINS; b++) {
-            g_hc.bin[b] = g_hl.bin[(unsigned)((int)b + shift + (int)HIST_BINS) % HIST_BINS];
+        for (unsigned b = 0u; b < EGO_HIST_BINS; b++) {
+            g_hc.bin[b] = g_hl.bin[(unsigned)((int)b + shift + (int)EGO_HIST_BINS) % EGO_HIST_BINS];
         }
-        hist_match_t m;
-        hist_correlate(&g_hc, &g_hl, 0u, 225u, 5u, &m);
+        ego_hist_match_t m;
+        ego_hist_correlate(&g_hc, &g_hl, 0u, 225u, 5u, &m);
         TEST_ASSERT_TRUE(m.count >= 1u);
         const double first_bins = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u)) *
-                                  HIST_BINS / 180.0;
+                                  EGO_HIST_BINS / 180.0;
         char msg[96];
         (void)snprintf(msg, sizeof msg, "runs %u shift %d got %.2f bins", runs, shift, first_bins);
         TEST_ASSERT_TRUE_MESSAGE(fabs(first_bins - shift) < 0.5, msg);
         for (uint8_t k = 0u; k < m.count; k++) {
             const double bins = deg_of_bam(fx_bam32_diff(m.candidate[k].rotation, 0u)) *
-                                HIST_BINS / 180.0;
+                                EGO_HIST_BINS / 180.0;
             const int j = (int)lround(bins);
             double best = -2.0;
             for (int i = j - 1; i <= j + 1; i++) {
@@ -322,7 +322,7 @@ static bool ref_band_holds(const ego_scan_t *scan, uint16_t i, unsigned n, fx_q1
 {
     fx_q2_30_t sn;
     fx_q2_30_t cs;
-    fx_sincos(hist_bin_centre(b), &sn, &cs);
+    fx_sincos(ego_hist_bin_centre(b), &sn, &cs);
     fx_q16_16_t d[2u * EGO_TFIT_MAX_HALF_WINDOW + 1u];
     for (unsigned k = 0u; k < 2u * n + 1u; k++) {
         const fx_q16_16_t rx = fx_sub_q16(scan->x[i - n + k], scan->x[i]);
@@ -339,7 +339,7 @@ static bool ref_band_holds(const ego_scan_t *scan, uint16_t i, unsigned n, fx_q1
     return true;
 }
 
-static void ref_htah(const ego_scan_t *scan, unsigned n, fx_q16_16_t t_line, hist_t *h)
+static void ref_htah(const ego_scan_t *scan, unsigned n, fx_q16_16_t t_line, ego_hist_t *h)
 {
     memset(h, 0, sizeof *h);
     for (uint16_t i = 0u; i < scan->count; i++) {
@@ -348,14 +348,14 @@ static void ref_htah(const ego_scan_t *scan, unsigned n, fx_q16_16_t t_line, his
         for (unsigned j = i - n; full && j < i + n; j++) {
             full = ego_scan_linked(scan, (uint16_t)j);
         }
-        const uint16_t start = hist_bin_of(scan->tangent[i]);
+        const uint16_t start = ego_hist_bin_of(scan->tangent[i]);
         if (!full || !ref_band_holds(scan, i, n, t_line, start)) {
             continue;
         }
         h->bin[start]++;
         uint16_t up = start;
         for (;;) {
-            const uint16_t next = (uint16_t)((up + 1u) % HIST_BINS);
+            const uint16_t next = (uint16_t)((up + 1u) % EGO_HIST_BINS);
             if (next == start || !ref_band_holds(scan, i, n, t_line, next)) {
                 break;
             }
@@ -364,7 +364,7 @@ static void ref_htah(const ego_scan_t *scan, unsigned n, fx_q16_16_t t_line, his
         }
         uint16_t down = start;
         for (;;) {
-            const uint16_t next = (uint16_t)((down + HIST_BINS - 1u) % HIST_BINS);
+            const uint16_t next = (uint16_t)((down + EGO_HIST_BINS - 1u) % EGO_HIST_BINS);
             if (next == up || !ref_band_holds(scan, i, n, t_line, next)) {
                 break;
             }
@@ -379,7 +379,7 @@ static void ref_htah(const ego_scan_t *scan, unsigned n, fx_q16_16_t t_line, his
  * bands, short and long windows, near and far scans. */
 static void test_hist_htah_skips_nothing_it_should_test(void)
 {
-    static hist_t reference;
+    static ego_hist_t reference;
     const double places[][3] = {{0.0, 0.0, 0.0}, {0.5, -0.3, 10.0}, {-4.0, 2.0, 95.0},
                                 {8.0, -4.0, 200.0}};
     const double bands[] = {0.005, 0.02, 0.05, 0.2, 1.0};
@@ -390,12 +390,12 @@ static void test_hist_htah_skips_nothing_it_should_test(void)
             room_scan(places[pl][0], places[pl][1], places[pl][2], count, &g_current);
             for (unsigned bi = 0u; bi < 5u; bi++) {
                 for (uint8_t n = 1u; n <= EGO_TFIT_MAX_HALF_WINDOW; n += 2u) {
-                    hist_params_t p;
-                    hist_defaults(&p);
-                    p.kind = HIST_HTAH;
+                    ego_hist_params_t p;
+                    ego_hist_defaults(&p);
+                    p.kind = EGO_HIST_HTAH;
                     p.half_window = n;
                     p.t_line = fx_q16_16_from_double(bands[bi]);
-                    votes += hist_build(&g_current, &p, &g_hc);
+                    votes += ego_hist_build(&g_current, &p, &g_hc);
                     ref_htah(&g_current, n, p.t_line, &reference);
                     TEST_ASSERT_EQUAL_MEMORY(reference.bin, g_hc.bin, sizeof reference.bin);
                     compared++;

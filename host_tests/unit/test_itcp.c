@@ -1,4 +1,4 @@
-/* test_itcp.c - ITCP and ICP (estimator/itcp.c): the closed form against
+/* test_itcp.c - ITCP and ICP (estimator/ego_itcp.c): the closed form against
  * its double oracle, and registration of constructed scans with known
  * motion. */
 #include <math.h>
@@ -6,12 +6,12 @@
 #include <string.h>
 
 #include "fx_host.h"
-#include "hist.h"
-#include "itcp.h"
+#include "ego_hist.h"
+#include "ego_itcp.h"
 #include "itcp_ref.h"
 #include "lms_test_util.h"
 #include "synth_scan.h"
-#include "tfit.h"
+#include "ego_tfit.h"
 #include "unity.h"
 
 void setUp(void)
@@ -25,7 +25,7 @@ void tearDown(void)
 static lms_scan_t g_lms;
 static ego_scan_t g_last;
 static ego_scan_t g_current;
-static hist_t g_hist;
+static ego_hist_t g_hist;
 
 static double rad_of(fx_bam32_t a)
 {
@@ -39,9 +39,9 @@ static void prepared_scan(const synth_wall_t *walls, unsigned nwalls, double x, 
     ego_prep_params_t prep;
     ego_prep_defaults(&prep);
     TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, &prep, scan));
-    tfit_params_t fit;
-    tfit_defaults(&fit);
-    tfit_fit_scan(scan, &fit);
+    ego_tfit_params_t fit;
+    ego_tfit_defaults(&fit);
+    ego_tfit_fit_scan(scan, &fit);
 }
 
 static void test_itcp_closed_form_matches_double_oracle(void)
@@ -59,8 +59,8 @@ static void test_itcp_closed_form_matches_double_oracle(void)
         const double ty = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 6.0;
         const bool weighted = (trial % 2u) == 0u;
         const bool hold = (trial % 5u) == 0u;
-        itcp_sums_t sums;
-        itcp_sums_clear(&sums);
+        ego_itcp_sums_t sums;
+        ego_itcp_sums_clear(&sums);
         for (unsigned k = 0u; k < n; k++) {
             const double px = ((double)tu_rand(&rng) / 4294967296.0 - 0.5) * 100.0;
             const double py = ((double)tu_rand(&rng) / 4294967296.0) * 60.0;
@@ -77,13 +77,13 @@ static void test_itcp_closed_form_matches_double_oracle(void)
             y[k] = fx_q16_16_to_double(fy);
             u[k] = fx_q16_16_to_double(fu);
             v[k] = fx_q16_16_to_double(fv);
-            itcp_sums_add(&sums, on_main[k], fx, fy, fu, fv);
+            ego_itcp_sums_add(&sums, on_main[k], fx, fy, fu, fv);
         }
         ego_pose_t pose = {fx_bam32_from_rad(theta + 0.01), 0, 0};
         double ref_theta = rad_of(pose.theta);
         double ref_tx = 0.0;
         double ref_ty = 0.0;
-        itcp_solve(&sums, weighted, hold, &pose);
+        ego_itcp_solve(&sums, weighted, hold, &pose);
         itcp_ref_solve(x, y, u, v, on_main, n, weighted, hold, &ref_theta, &ref_tx, &ref_ty);
         const double e_theta = fabs(rad_of(pose.theta) - ref_theta);
         const double e_t = fmax(fabs(fx_q16_16_to_double(pose.x) - ref_tx),
@@ -108,15 +108,15 @@ static void register_room(const motion_t *mo, bool weighted, double init_err_deg
     const double th = mo->dtheta_deg * FX_HOST_PI / 180.0;
     prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
     prepared_scan(synth_room, synth_room_walls, mo->dx, mo->dy, th, &g_current);
-    hist_params_t hp;
-    hist_defaults(&hp);
-    (void)hist_build(&g_last, &hp, &g_hist);
+    ego_hist_params_t hp;
+    ego_hist_defaults(&hp);
+    (void)ego_hist_build(&g_last, &hp, &g_hist);
     itcp_params_t p;
-    itcp_defaults(&p);
+    ego_itcp_defaults(&p);
     p.weighted = weighted;
     const ego_pose_t initial = {fx_bam32_from_rad(th + init_err_deg * FX_HOST_PI / 180.0), 0, 0};
-    itcp_result_t r;
-    TEST_ASSERT_EQUAL_INT(ITCP_OK, itcp_register(&g_last, &g_current, hist_main_direction(&g_hist),
+    ego_itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_itcp_register(&g_last, &g_current, ego_hist_main_direction(&g_hist),
                                                  &initial, false, &p, &r));
     const double ex = fx_q16_16_to_double(r.pose.x) - mo->dx;
     const double ey = fx_q16_16_to_double(r.pose.y) - mo->dy;
@@ -156,11 +156,11 @@ static void test_itcp_hold_rotation_keeps_theta(void)
     prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
     prepared_scan(synth_room, synth_room_walls, 0.2, -0.1, 0.05, &g_current);
     itcp_params_t p;
-    itcp_defaults(&p);
+    ego_itcp_defaults(&p);
     const ego_pose_t initial = {fx_bam32_from_rad(0.05), 0, 0};
-    itcp_result_t r;
-    TEST_ASSERT_EQUAL_INT(ITCP_OK,
-                          itcp_register(&g_last, &g_current, 0u, &initial, true, &p, &r));
+    ego_itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK,
+                          ego_itcp_register(&g_last, &g_current, 0u, &initial, true, &p, &r));
     TEST_ASSERT_EQUAL_UINT32(initial.theta, r.pose.theta);
     TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(r.pose.x) - 0.2) < 0.01);
     TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(r.pose.y) + 0.1) < 0.01);
@@ -170,12 +170,12 @@ static void test_itcp_flags_the_corridor_aperture(void)
 {
     prepared_scan(synth_corridor, synth_corridor_walls, 0.0, 0.0, 0.0, &g_last);
     prepared_scan(synth_corridor, synth_corridor_walls, 0.3, 0.1, 0.02, &g_current);
-    (void)hist_build(&g_last, &(hist_params_t){HIST_HTAH, 3u, FX_Q16_16_C(0.05), NULL}, &g_hist);
+    (void)ego_hist_build(&g_last, &(ego_hist_params_t){EGO_HIST_HTAH, 3u, FX_Q16_16_C(0.05), NULL}, &g_hist);
     itcp_params_t p;
-    itcp_defaults(&p);
+    ego_itcp_defaults(&p);
     const ego_pose_t initial = {fx_bam32_from_rad(0.02), 0, 0};
-    itcp_result_t r;
-    (void)itcp_register(&g_last, &g_current, hist_main_direction(&g_hist), &initial, false, &p,
+    ego_itcp_result_t r;
+    (void)ego_itcp_register(&g_last, &g_current, ego_hist_main_direction(&g_hist), &initial, false, &p,
                         &r);
     char msg[96];
     (void)snprintf(msg, sizeof msg, "n_main %u n_non %u y %.4f theta %.5f", (unsigned)r.n_main,
@@ -195,19 +195,19 @@ static void test_itcp_fails_cleanly_without_points(void)
     prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
     memset(&g_current, 0, sizeof g_current);
     itcp_params_t p;
-    itcp_defaults(&p);
+    ego_itcp_defaults(&p);
     const ego_pose_t initial = {123u, 456, -789};
-    itcp_result_t r;
-    TEST_ASSERT_EQUAL_INT(ITCP_ERR_FEW_MATCHES,
-                          itcp_register(&g_last, &g_current, 0u, &initial, false, &p, &r));
+    ego_itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_ERR_FEW_MATCHES,
+                          ego_itcp_register(&g_last, &g_current, 0u, &initial, false, &p, &r));
     TEST_ASSERT_EQUAL_UINT32(123u, r.pose.theta);
     TEST_ASSERT_EQUAL_INT32(456, r.pose.x);
     /* Far from anything: no matches within the radius. */
     prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_current);
     const ego_pose_t far = {0u, FX_Q16_16_C(50.0), 0};
-    TEST_ASSERT_EQUAL_INT(ITCP_ERR_FEW_MATCHES,
-                          itcp_register(&g_last, &g_current, 0u, &far, false, &p, &r));
-    TEST_ASSERT_EQUAL_INT(ITCP_ERR_ARG, itcp_register(NULL, &g_current, 0u, &far, false, &p, &r));
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_ERR_FEW_MATCHES,
+                          ego_itcp_register(&g_last, &g_current, 0u, &far, false, &p, &r));
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_ERR_ARG, ego_itcp_register(NULL, &g_current, 0u, &far, false, &p, &r));
 }
 
 /* Distance in double from (qx, qy) to the nearest segment of two linked
@@ -266,7 +266,7 @@ static void test_itcp_nearest_matches_brute_force(void)
             continue;
         }
         uint64_t d2 = 0u;
-        TEST_ASSERT_TRUE(itcp_nearest(&g_last, fx_q16_16_from_double(qx),
+        TEST_ASSERT_TRUE(ego_itcp_nearest(&g_last, fx_q16_16_from_double(qx),
                                       fx_q16_16_from_double(qy), FX_Q16_16_C(0.6), &d2));
         const double d = sqrt((double)d2) / 65536.0;
         const double error = fabs(d - truth);
@@ -280,7 +280,7 @@ static void test_itcp_nearest_matches_brute_force(void)
     TEST_ASSERT_TRUE_MESSAGE(worst < 5e-5, msg);
     /* Nothing within the radius: false. */
     uint64_t d2 = 0u;
-    TEST_ASSERT_FALSE(itcp_nearest(&g_last, FX_Q16_16_C(1.0), FX_Q16_16_C(0.5), FX_Q16_16_C(0.3),
+    TEST_ASSERT_FALSE(ego_itcp_nearest(&g_last, FX_Q16_16_C(1.0), FX_Q16_16_C(0.5), FX_Q16_16_C(0.3),
                                    &d2));
 }
 
@@ -289,15 +289,15 @@ static void test_itcp_seen_through_is_free_space(void)
 {
     prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
     const fx_q16_16_t margin = FX_Q16_16_C(0.2);
-    TEST_ASSERT_TRUE(itcp_seen_through(&g_last, FX_Q16_16_C(1.0), FX_Q16_16_C(0.5), margin));
-    TEST_ASSERT_TRUE(itcp_seen_through(&g_last, FX_Q16_16_C(5.0), FX_Q16_16_C(0.5), margin));
+    TEST_ASSERT_TRUE(ego_itcp_seen_through(&g_last, FX_Q16_16_C(1.0), FX_Q16_16_C(0.5), margin));
+    TEST_ASSERT_TRUE(ego_itcp_seen_through(&g_last, FX_Q16_16_C(5.0), FX_Q16_16_C(0.5), margin));
     /* Within the margin of the far wall (x = 10), and behind it. */
-    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(9.9), FX_Q16_16_C(0.5), margin));
-    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(10.5), FX_Q16_16_C(0.5), margin));
+    TEST_ASSERT_FALSE(ego_itcp_seen_through(&g_last, FX_Q16_16_C(9.9), FX_Q16_16_C(0.5), margin));
+    TEST_ASSERT_FALSE(ego_itcp_seen_through(&g_last, FX_Q16_16_C(10.5), FX_Q16_16_C(0.5), margin));
     /* Behind the angled wall from (7, 4) to (9, 2.5). */
-    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(9.5), FX_Q16_16_C(3.0), margin));
+    TEST_ASSERT_FALSE(ego_itcp_seen_through(&g_last, FX_Q16_16_C(9.5), FX_Q16_16_C(3.0), margin));
     /* Behind the box at x 2.0-2.6, y -1.0..-0.4. */
-    TEST_ASSERT_FALSE(itcp_seen_through(&g_last, FX_Q16_16_C(3.5), FX_Q16_16_C(-1.0), margin));
+    TEST_ASSERT_FALSE(ego_itcp_seen_through(&g_last, FX_Q16_16_C(3.5), FX_Q16_16_C(-1.0), margin));
 }
 
 /* The coarse search's combined query gives what the two queries give. */
@@ -308,20 +308,20 @@ static void test_itcp_probe_is_nearest_then_free_space(void)
     unsigned seen[3] = {0u, 0u, 0u};
     const fx_q16_16_t radius = FX_Q16_16_C(0.1);
     const fx_q16_16_t margin = FX_Q16_16_C(0.2);
-    itcp_prober_t prober;
-    itcp_prober_init(&prober, &g_last, radius, margin);
+    ego_itcp_prober_t prober;
+    ego_itcp_prober_init(&prober, &g_last, radius, margin);
     for (unsigned trial = 0u; trial < 3000u; trial++) {
         const fx_q16_16_t qx = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (1 << 16);
         const fx_q16_16_t qy = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
         uint64_t d_probe = 0u;
         uint64_t d_nearest = 0u;
-        const itcp_probe_t p = itcp_probe(&prober, qx, qy, &d_probe);
-        const bool near = itcp_nearest(&g_last, qx, qy, radius, &d_nearest) &&
+        const ego_itcp_probe_t p = ego_itcp_probe(&prober, qx, qy, &d_probe);
+        const bool near = ego_itcp_nearest(&g_last, qx, qy, radius, &d_nearest) &&
                           d_nearest < (uint64_t)((int64_t)radius * radius);
-        const itcp_probe_t expected =
-            near ? ITCP_PROBE_SURFACE
-                 : (itcp_seen_through(&g_last, qx, qy, margin) ? ITCP_PROBE_SEEN_THROUGH
-                                                               : ITCP_PROBE_NOTHING);
+        const ego_itcp_probe_t expected =
+            near ? EGO_ITCP_PROBE_SURFACE
+                 : (ego_itcp_seen_through(&g_last, qx, qy, margin) ? EGO_ITCP_PROBE_SEEN_THROUGH
+                                                               : EGO_ITCP_PROBE_NOTHING);
         TEST_ASSERT_EQUAL_INT(expected, p);
         if (near) {
             TEST_ASSERT_TRUE(d_nearest == d_probe);
@@ -329,21 +329,21 @@ static void test_itcp_probe_is_nearest_then_free_space(void)
         seen[p]++;
     }
     /* Every outcome occurred. */
-    TEST_ASSERT_TRUE(seen[ITCP_PROBE_NOTHING] > 0u);
-    TEST_ASSERT_TRUE(seen[ITCP_PROBE_SURFACE] > 0u);
-    TEST_ASSERT_TRUE(seen[ITCP_PROBE_SEEN_THROUGH] > 0u);
+    TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_NOTHING] > 0u);
+    TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SURFACE] > 0u);
+    TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SEEN_THROUGH] > 0u);
 }
 
 /* The bounded profile's work cap: at most max_points of count, spread
  * over the whole scan. */
 static void test_itcp_sample_stride_caps_the_points(void)
 {
-    TEST_ASSERT_EQUAL_UINT16(1u, itcp_sample_stride(361u, 0u));
-    TEST_ASSERT_EQUAL_UINT16(1u, itcp_sample_stride(40u, 40u));
-    TEST_ASSERT_EQUAL_UINT16(1u, itcp_sample_stride(0u, 40u));
+    TEST_ASSERT_EQUAL_UINT16(1u, ego_itcp_sample_stride(361u, 0u));
+    TEST_ASSERT_EQUAL_UINT16(1u, ego_itcp_sample_stride(40u, 40u));
+    TEST_ASSERT_EQUAL_UINT16(1u, ego_itcp_sample_stride(0u, 40u));
     for (uint16_t count = 1u; count <= 401u; count++) {
         for (uint16_t cap = 1u; cap <= 64u; cap++) {
-            const uint16_t stride = itcp_sample_stride(count, cap);
+            const uint16_t stride = ego_itcp_sample_stride(count, cap);
             const uint16_t taken = (uint16_t)((count - stride / 2u + stride - 1u) / stride);
             TEST_ASSERT_TRUE(taken <= cap);
             /* The smallest such stride: one less would take too many. */

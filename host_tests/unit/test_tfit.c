@@ -1,4 +1,4 @@
-/* test_tfit.c - robust tangents (estimator/tfit.c) against the double
+/* test_tfit.c - robust tangents (estimator/ego_tfit.c) against the double
  * oracle (host_tests/ref/tfit_ref.c) and on constructed scans. */
 #include <math.h>
 #include <stdio.h>
@@ -6,7 +6,7 @@
 
 #include "fx_host.h"
 #include "lms_test_util.h"
-#include "tfit.h"
+#include "ego_tfit.h"
 #include "tfit_ref.h"
 #include "unity.h"
 
@@ -61,7 +61,7 @@ static void test_tfit_exact_lines_every_direction(void)
         make_line(dir, 0.05, 0.0, &rng, 7u, x, y, dx, dy);
         fx_bam32_t tangent = 0u;
         fx_q16_16_t rms = -1;
-        TEST_ASSERT_TRUE(tfit_fit(x, y, 7u, 2u, SIGMA_MIN, &tangent, &rms));
+        TEST_ASSERT_TRUE(ego_tfit_fit(x, y, 7u, 2u, SIGMA_MIN, &tangent, &rms));
         TEST_ASSERT_EQUAL_UINT32(0u, tangent >> 31); /* modulo 180 deg */
         const double err = fx_host_line_angle_diff(fx_bam32_to_rad(tangent), dir);
         worst = (err > worst) ? err : worst;
@@ -99,7 +99,7 @@ static void test_tfit_matches_double_oracle(void)
             double ref_rms = 0.0;
             double margin = 0.0;
             const bool ok =
-                tfit_fit(x, y, (uint16_t)count, (uint8_t)passes, SIGMA_MIN, &tangent, &rms);
+                ego_tfit_fit(x, y, (uint16_t)count, (uint8_t)passes, SIGMA_MIN, &tangent, &rms);
             const bool ref_ok = tfit_ref_fit(dx, dy, count, passes, fx_q16_16_to_double(SIGMA_MIN),
                                              &ref_tangent, &ref_rms, &margin);
             TEST_ASSERT_EQUAL_INT(ref_ok, ok);
@@ -155,8 +155,8 @@ static void test_tfit_m_estimator_rejects_an_outlier(void)
     fx_bam32_t plain = 0u;
     fx_bam32_t robust = 0u;
     fx_q16_16_t rms = 0;
-    TEST_ASSERT_TRUE(tfit_fit(x, y, 7u, 0u, SIGMA_MIN, &plain, &rms));
-    TEST_ASSERT_TRUE(tfit_fit(x, y, 7u, 2u, SIGMA_MIN, &robust, &rms));
+    TEST_ASSERT_TRUE(ego_tfit_fit(x, y, 7u, 0u, SIGMA_MIN, &plain, &rms));
+    TEST_ASSERT_TRUE(ego_tfit_fit(x, y, 7u, 2u, SIGMA_MIN, &robust, &rms));
     const double plain_err = deg(fx_host_line_angle_diff(fx_bam32_to_rad(plain), dir));
     const double robust_err = deg(fx_host_line_angle_diff(fx_bam32_to_rad(robust), dir));
     char msg[80];
@@ -171,14 +171,14 @@ static void test_tfit_rejects_degenerate_input(void)
     const fx_q16_16_t y[3] = {0, 1, 2};
     fx_bam32_t tangent = 123u;
     fx_q16_16_t rms = 456;
-    TEST_ASSERT_FALSE(tfit_fit(x, y, 1u, 2u, SIGMA_MIN, &tangent, &rms));
-    TEST_ASSERT_FALSE(tfit_fit(x, y, 0u, 2u, SIGMA_MIN, &tangent, &rms));
-    TEST_ASSERT_FALSE(tfit_fit(NULL, y, 3u, 2u, SIGMA_MIN, &tangent, &rms));
-    TEST_ASSERT_FALSE(tfit_fit(x, y, 2u * EGO_TFIT_MAX_HALF_WINDOW + 2u, 2u, SIGMA_MIN, &tangent, &rms));
+    TEST_ASSERT_FALSE(ego_tfit_fit(x, y, 1u, 2u, SIGMA_MIN, &tangent, &rms));
+    TEST_ASSERT_FALSE(ego_tfit_fit(x, y, 0u, 2u, SIGMA_MIN, &tangent, &rms));
+    TEST_ASSERT_FALSE(ego_tfit_fit(NULL, y, 3u, 2u, SIGMA_MIN, &tangent, &rms));
+    TEST_ASSERT_FALSE(ego_tfit_fit(x, y, 2u * EGO_TFIT_MAX_HALF_WINDOW + 2u, 2u, SIGMA_MIN, &tangent, &rms));
     TEST_ASSERT_EQUAL_UINT32(123u, tangent);
     TEST_ASSERT_EQUAL_INT32(456, rms);
     /* Two points: a line, along y. */
-    TEST_ASSERT_TRUE(tfit_fit(x, y, 2u, 2u, SIGMA_MIN, &tangent, &rms));
+    TEST_ASSERT_TRUE(ego_tfit_fit(x, y, 2u, 2u, SIGMA_MIN, &tangent, &rms));
     TEST_ASSERT_TRUE(fx_host_line_angle_diff(fx_bam32_to_rad(tangent), FX_HOST_PI / 2.0) < 1e-6);
 }
 
@@ -213,9 +213,9 @@ static void test_tfit_scan_follows_segments(void)
 {
     static ego_scan_t scan;
     make_corner_scan(&scan);
-    tfit_params_t params;
-    tfit_defaults(&params);
-    tfit_fit_scan(&scan, &params);
+    ego_tfit_params_t params;
+    ego_tfit_defaults(&params);
+    ego_tfit_fit_scan(&scan, &params);
 
     for (uint16_t i = 0u; i < 16u; i++) { /* wall 1, away from the corner */
         TEST_ASSERT_TRUE(scan.flags[i] & EGO_POINT_HAS_TANGENT);
@@ -247,11 +247,11 @@ static void test_tfit_scan_sample_fits_only_the_sample(void)
     static ego_scan_t some;
     make_corner_scan(&all);
     make_corner_scan(&some);
-    tfit_params_t params;
-    tfit_defaults(&params);
-    tfit_fit_scan(&all, &params);
+    ego_tfit_params_t params;
+    ego_tfit_defaults(&params);
+    ego_tfit_fit_scan(&all, &params);
     some.flags[5] |= EGO_POINT_HAS_TANGENT; /* stale: must be cleared */
-    tfit_fit_scan_sample(&some, &params, 1u, 3u);
+    ego_tfit_fit_scan_sample(&some, &params, 1u, 3u);
     unsigned fitted = 0u;
     for (uint16_t i = 0u; i < all.count; i++) {
         if (i % 3u == 1u) {

@@ -1,4 +1,4 @@
-/* tfit.h - robust tangent of every scan point (paper section 3, eqs. 1-3).
+/* ego_tfit.h - robust tangent of every scan point (paper section 3, eqs. 1-3).
  *
  * For point i, the 2n + 1 neighbours P[i-n] .. P[i+n] that lie in i's own
  * segment (never across a break of ego_scan.h) are fitted with the line
@@ -29,39 +29,39 @@
  * docs/fixed-point.md), angles from fx_atan2. Bounded: at most
  * 2 * EGO_TFIT_MAX_HALF_WINDOW + 1 points, passes + 1 fits per point.
  */
-#ifndef TFIT_H
-#define TFIT_H
+#ifndef EGO_TFIT_H
+#define EGO_TFIT_H
 
 #include <stdbool.h>
 #include <stdint.h>
 
 #include "ego_scan.h"
-#include "fx.h"
+#include "ego_fx.h"
 
 typedef struct {
     uint8_t half_window; /* n, 1 .. EGO_TFIT_MAX_HALF_WINDOW; default 3 */
     uint8_t passes;      /* M-estimator passes after the plain fit; default 2 */
     uint8_t min_points;  /* smallest usable window, >= 2; default 3 */
     fx_q16_16_t sigma_min; /* floor of the residual scale, m; default 0.005 */
-} tfit_params_t;
+} ego_tfit_params_t;
 
-void tfit_defaults(tfit_params_t *params);
+void ego_tfit_defaults(ego_tfit_params_t *params);
 
 /* One fit over count points (x[k], y[k]), count <= 2 * EGO_TFIT_MAX_HALF_WINDOW
  * + 1, coordinates relative to any nearby origin (|x|, |y| < 2^26, i.e.
  * 1024 m). Returns false (and leaves *tangent, *rms alone) when count < 2
  * or the weights leave fewer than two points. */
-bool tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_t passes,
+bool ego_tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_t passes,
               fx_q16_16_t sigma_min, fx_bam32_t *tangent, fx_q16_16_t *rms);
 
 /* Fits every point of scan: sets tangent[], tangent_rms[] and the
  * EGO_POINT_HAS_TANGENT flag. */
-void tfit_fit_scan(ego_scan_t *scan, const tfit_params_t *params);
+void ego_tfit_fit_scan(ego_scan_t *scan, const ego_tfit_params_t *params);
 
 /* The same for points first, first + stride, ... only (stride >= 1); the
  * others get no tangent. For the bounded profile, where only ITCP's sample
  * of the points needs one. */
-void tfit_fit_scan_sample(ego_scan_t *scan, const tfit_params_t *params, uint16_t first,
+void ego_tfit_fit_scan_sample(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t first,
                           uint16_t stride);
 
-#endif /* TFIT_H */
+#endif /* EGO_TFIT_H */

@@ -1,16 +1,16 @@
-/* itcp.c - see itcp.h. */
-#include "itcp.h"
+/* ego_itcp.c - see ego_itcp.h. */
+#include "ego_itcp.h"
 
 #include <stddef.h>
 #include <string.h>
 
-#include "fx_math.h"
+#include "ego_fx_math.h"
 
 /* How far past the end of an artificially ended surface a point may still
  * be matched to the end: the range noise of the scanner, not more. */
 #define END_TOLERANCE FX_Q16_16_C(0.02)
 
-void itcp_defaults(itcp_params_t *params)
+void ego_itcp_defaults(itcp_params_t *params)
 {
     memset(params, 0, sizeof *params);
     params->weighted = true;
@@ -29,7 +29,7 @@ void itcp_defaults(itcp_params_t *params)
     params->min_matches = 10u;
 }
 
-static void sums_add(itcp_group_sums_t *s, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
+static void sums_add(ego_itcp_group_sums_t *s, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
                      fx_q16_16_t v)
 {
     s->n++;
@@ -45,7 +45,7 @@ static void sums_add(itcp_group_sums_t *s, fx_q16_16_t x, fx_q16_16_t y, fx_q16_
 
 /* What one matching pass found. */
 typedef struct {
-    itcp_sums_t sums;
+    ego_itcp_sums_t sums;
     uint32_t inliers;
     uint32_t group_points[2];  /* current points per group, matched or not */
     uint64_t group_fit[2];     /* sum of (inlier_distance^2 - d^2), inliers only, Q32.32 */
@@ -369,7 +369,7 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
      * int32; a limit past that range stops nothing). */
     const int32_t above = clamp_s32(q->rel + cone);
     const int32_t below = clamp_s32(q->rel - cone);
-    for (uint16_t j = q->j0, k = 0u; j < l->count && k < ITCP_MAX_WALK; j++, k++) {
+    for (uint16_t j = q->j0, k = 0u; j < l->count && k < EGO_ITCP_MAX_WALK; j++, k++) {
         if (fx_bam32_diff(l->bearing[j], m->ref) > above) {
             break;
         }
@@ -377,7 +377,7 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
             consider(m, &t, j, &best);
         }
     }
-    for (uint16_t j = q->j0, k = 0u; j > 0u && k < ITCP_MAX_WALK; k++) {
+    for (uint16_t j = q->j0, k = 0u; j > 0u && k < EGO_ITCP_MAX_WALK; k++) {
         j--;
         if (fx_bam32_diff(l->bearing[j + 1u], m->ref) < below) {
             break;
@@ -434,7 +434,7 @@ static void init_matcher(matcher_t *m, const ego_scan_t *last, fx_bam32_t ref,
     m->radius = radius;
 }
 
-bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
+bool ego_itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
                   uint64_t *dist_sq)
 {
     if (last == NULL || dist_sq == NULL || last->count == 0u) {
@@ -449,7 +449,7 @@ bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16
     return best.found;
 }
 
-bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
+bool ego_itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
                        fx_q16_16_t margin)
 {
     if (last == NULL || last->count == 0u) {
@@ -462,7 +462,7 @@ bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
     return seen_through(&m, &q, margin);
 }
 
-void itcp_prober_init(itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radius,
+void ego_itcp_prober_init(ego_itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radius,
                       fx_q16_16_t margin)
 {
     p->last = last;
@@ -473,10 +473,10 @@ void itcp_prober_init(itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radi
     p->hint = (last != NULL) ? (uint16_t)(last->count / 2u) : 0u;
 }
 
-itcp_probe_t itcp_probe(itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq)
+ego_itcp_probe_t ego_itcp_probe(ego_itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq)
 {
     if (p == NULL || dist_sq == NULL || p->last == NULL || p->last->count == 0u) {
-        return ITCP_PROBE_NOTHING;
+        return EGO_ITCP_PROBE_NOTHING;
     }
     matcher_t m;
     init_matcher(&m, p->last, p->ref, p->radius);
@@ -486,12 +486,12 @@ itcp_probe_t itcp_probe(itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64
     const match_t best = find_match(&m, &q, false, 0u);
     *dist_sq = best.dist_sq;
     if (best.found && best.dist_sq < p->radius_sq) {
-        return ITCP_PROBE_SURFACE;
+        return EGO_ITCP_PROBE_SURFACE;
     }
-    return seen_through(&m, &q, p->margin) ? ITCP_PROBE_SEEN_THROUGH : ITCP_PROBE_NOTHING;
+    return seen_through(&m, &q, p->margin) ? EGO_ITCP_PROBE_SEEN_THROUGH : EGO_ITCP_PROBE_NOTHING;
 }
 
-uint16_t itcp_sample_stride(uint16_t count, uint16_t max_points)
+uint16_t ego_itcp_sample_stride(uint16_t count, uint16_t max_points)
 {
     if (max_points == 0u || count <= max_points) {
         return 1u;
@@ -499,12 +499,12 @@ uint16_t itcp_sample_stride(uint16_t count, uint16_t max_points)
     return (uint16_t)(((uint32_t)count + max_points - 1u) / max_points);
 }
 
-void itcp_sums_clear(itcp_sums_t *sums)
+void ego_itcp_sums_clear(ego_itcp_sums_t *sums)
 {
     memset(sums, 0, sizeof *sums);
 }
 
-void itcp_sums_add(itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
+void ego_itcp_sums_add(ego_itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
                    fx_q16_16_t v)
 {
     sums_add(&sums->group[on_main ? 0 : 1], x, y, u, v);
@@ -522,7 +522,7 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
     const uint64_t inlier_sq =
         (uint64_t)((int64_t)m->params->inlier_distance * m->params->inlier_distance);
     uint16_t hint = (uint16_t)(m->last->count / 2u);
-    const uint16_t stride = itcp_sample_stride(cur->count, m->params->max_points);
+    const uint16_t stride = ego_itcp_sample_stride(cur->count, m->params->max_points);
     for (uint16_t i = (uint16_t)(stride / 2u); i < cur->count; i = (uint16_t)(i + stride)) {
         fx_q16_16_t qx;
         fx_q16_16_t qy;
@@ -543,7 +543,7 @@ static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_
         if (!best.found) {
             continue;
         }
-        itcp_sums_add(&pass->sums, on_main, cur->x[i], cur->y[i], best.x, best.y);
+        ego_itcp_sums_add(&pass->sums, on_main, cur->x[i], cur->y[i], best.x, best.y);
         pass->sum_sq += best.dist_sq;
         if (best.dist_sq <= inlier_sq) {
             pass->inliers++;
@@ -559,14 +559,14 @@ static int64_t div_round(int64_t a, int64_t b)
 
 /* Centred cross sum of one group divided by its size:
  * (1/n) sum (a - am)(b - bm) from raw sums. */
-static int64_t centred(const itcp_group_sums_t *g, int64_t sab, int64_t sa, int64_t sb, int64_t am,
+static int64_t centred(const ego_itcp_group_sums_t *g, int64_t sab, int64_t sa, int64_t sb, int64_t am,
                        int64_t bm)
 {
     const int64_t total = sab - am * sb - bm * sa + g->n * am * bm;
     return div_round(total, g->n);
 }
 
-static void sums_merge(itcp_group_sums_t *into, const itcp_group_sums_t *from)
+static void sums_merge(ego_itcp_group_sums_t *into, const ego_itcp_group_sums_t *from)
 {
     into->n += from->n;
     into->sx += from->sx;
@@ -579,15 +579,15 @@ static void sums_merge(itcp_group_sums_t *into, const itcp_group_sums_t *from)
     into->syv += from->syv;
 }
 
-void itcp_solve(const itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pose_t *pose)
+void ego_itcp_solve(const ego_itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pose_t *pose)
 {
-    itcp_group_sums_t all = sums->group[0];
-    itcp_group_sums_t none;
+    ego_itcp_group_sums_t all = sums->group[0];
+    ego_itcp_group_sums_t none;
     memset(&none, 0, sizeof none);
     if (!weighted) {
         sums_merge(&all, &sums->group[1]);
     }
-    const itcp_group_sums_t *g[2] = {&all, weighted ? &sums->group[1] : &none};
+    const ego_itcp_group_sums_t *g[2] = {&all, weighted ? &sums->group[1] : &none};
     int64_t groups = 0;
     if (g[0]->n + g[1]->n == 0) {
         return; /* nothing to solve with: the pose stays */
@@ -617,7 +617,7 @@ void itcp_solve(const itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pos
             if (g[k]->n == 0) {
                 continue;
             }
-            const itcp_group_sums_t *s = g[k];
+            const ego_itcp_group_sums_t *s = g[k];
             const int64_t xv = centred(s, s->sxv, s->sx, s->sv, xm, vm);
             const int64_t yu = centred(s, s->syu, s->sy, s->su, ym, um);
             const int64_t xu = centred(s, s->sxu, s->sx, s->su, xm, um);
@@ -696,7 +696,7 @@ static bool accelerate(ego_pose_t *pose, const step_t *last_step, const step_t *
 
 /* Iterations of match + closed form from *pose, the search radius
  * shrinking from radius_from to radius_floor; at most max_iterations. */
-static itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp_params_t *params,
+static ego_itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp_params_t *params,
                              bool hold_rotation, fx_q16_16_t radius_from,
                              fx_q16_16_t radius_floor, uint8_t max_iterations,
                              ego_pose_t *pose_io, pass_t *pass, uint16_t *iterations,
@@ -711,16 +711,16 @@ static itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp
     bool may_accelerate = true;
     bool jumped = false;
     step_t jump = {{0, 0, 0}};
-    itcp_status_t status = ITCP_OK;
+    ego_itcp_status_t status = EGO_ITCP_OK;
     *converged = false;
     for (uint8_t it = 0u; it < max_iterations; it++) {
         match_all(m, current, &pose, false, pass);
         if (pass->sums.group[0].n + pass->sums.group[1].n < params->min_matches) {
-            status = ITCP_ERR_FEW_MATCHES;
+            status = EGO_ITCP_ERR_FEW_MATCHES;
             break;
         }
         const ego_pose_t before = pose;
-        itcp_solve(&pass->sums, params->weighted, hold_rotation, &pose);
+        ego_itcp_solve(&pass->sums, params->weighted, hold_rotation, &pose);
         (*iterations)++;
         const bool at_min = m->radius <= radius_floor;
         const bool still =
@@ -754,20 +754,20 @@ static itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp
     return status;
 }
 
-itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
+ego_itcp_status_t ego_itcp_register(const ego_scan_t *last, const ego_scan_t *current,
                             fx_bam32_t main_direction, const ego_pose_t *initial,
                             bool hold_rotation, const itcp_params_t *params,
-                            itcp_result_t *result)
+                            ego_itcp_result_t *result)
 {
     if (result != NULL) {
         memset(result, 0, sizeof *result);
     }
     if (last == NULL || current == NULL || initial == NULL || params == NULL || result == NULL) {
-        return ITCP_ERR_ARG;
+        return EGO_ITCP_ERR_ARG;
     }
     result->pose = *initial;
     if (last->count < 2u || current->count == 0u) {
-        return ITCP_ERR_FEW_MATCHES;
+        return EGO_ITCP_ERR_FEW_MATCHES;
     }
     matcher_t m;
     m.last = last;
@@ -779,10 +779,10 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
     pass_t pass;
     uint16_t iterations = 0u;
     bool converged = false;
-    itcp_status_t status =
+    ego_itcp_status_t status =
         iterate(&m, current, params, hold_rotation, params->radius_start, params->radius_min,
                 params->max_iterations, &pose, &pass, &iterations, &converged);
-    if (status == ITCP_OK && converged && params->radius_fine < params->radius_min) {
+    if (status == EGO_ITCP_OK && converged && params->radius_fine < params->radius_min) {
         /* Converged among the nearby surfaces: now only the close matches.
          * Wrong partners within radius_min pull every pose towards no
          * motion (4-15 mm per scan on the 1-degree campus drive); kept only
@@ -791,13 +791,13 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
         ego_pose_t fine = pose;
         uint16_t fine_iterations = 0u;
         bool fine_converged = false;
-        const itcp_status_t fine_status =
+        const ego_itcp_status_t fine_status =
             iterate(&m, current, params, hold_rotation, params->radius_fine, params->radius_fine,
                     (params->fine_iterations != 0u) ? params->fine_iterations
                                                     : params->max_iterations,
                     &fine, &pass, &fine_iterations, &fine_converged);
         iterations = (uint16_t)(iterations + fine_iterations);
-        if (fine_status == ITCP_OK && fine_converged &&
+        if (fine_status == EGO_ITCP_OK && fine_converged &&
             2 * (pass.sums.group[0].n + pass.sums.group[1].n) >= coarse_matches) {
             pose = fine;
         }
@@ -835,8 +835,8 @@ itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
     result->aperture = pass.sums.group[0].n > 0 &&
                        ((int64_t)pass.sums.group[1].n << 30) <
                            (int64_t)params->aperture_ratio * pass.sums.group[0].n;
-    if (status == ITCP_OK && matches < params->min_matches) {
-        status = ITCP_ERR_FEW_MATCHES;
+    if (status == EGO_ITCP_OK && matches < params->min_matches) {
+        status = EGO_ITCP_ERR_FEW_MATCHES;
     }
     return status;
 }

@@ -1,16 +1,16 @@
-/* tfit.c - see tfit.h. */
-#include "tfit.h"
+/* ego_tfit.c - see ego_tfit.h. */
+#include "ego_tfit.h"
 
 #include <stddef.h>
 
-#include "fx_math.h"
+#include "ego_fx_math.h"
 
-#define TFIT_WINDOW_MAX (2u * EGO_TFIT_MAX_HALF_WINDOW + 1u)
+#define EGO_TFIT_WINDOW_MAX (2u * EGO_TFIT_MAX_HALF_WINDOW + 1u)
 #define WEIGHT_ONE ((int64_t)FX_Q16_16_ONE)
 
-_Static_assert(TFIT_WINDOW_MAX <= 64u, "moment sums assume a small window");
+_Static_assert(EGO_TFIT_WINDOW_MAX <= 64u, "moment sums assume a small window");
 
-void tfit_defaults(tfit_params_t *params)
+void ego_tfit_defaults(ego_tfit_params_t *params)
 {
     params->half_window = 3u;
     params->passes = 2u;
@@ -32,7 +32,7 @@ static int64_t abs64(int64_t v)
 /* Line normal of the weighted points, and the residual of each point. */
 typedef struct {
     fx_bam32_t normal; /* phi, mod 180 deg */
-    fx_q16_16_t residual[TFIT_WINDOW_MAX];
+    fx_q16_16_t residual[EGO_TFIT_WINDOW_MAX];
     int64_t weight_sum; /* Q16.16 */
 } line_fit_t;
 
@@ -83,12 +83,12 @@ static bool fit_line(const fx_q16_16_t *x, const fx_q16_16_t *y, const int32_t *
     return true;
 }
 
-/* Median of the absolute residuals (n <= TFIT_WINDOW_MAX): insertion
+/* Median of the absolute residuals (n <= EGO_TFIT_WINDOW_MAX): insertion
  * sort of a copy. */
 static int64_t median_abs(const fx_q16_16_t *residual, uint16_t n)
 {
-    int64_t a[TFIT_WINDOW_MAX]; /* a[0..k] filled by the insertion sort before any read */
-    if (n == 0u || n > TFIT_WINDOW_MAX) {
+    int64_t a[EGO_TFIT_WINDOW_MAX]; /* a[0..k] filled by the insertion sort before any read */
+    if (n == 0u || n > EGO_TFIT_WINDOW_MAX) {
         return 0;
     }
     for (uint16_t k = 0u; k < n; k++) {
@@ -127,14 +127,14 @@ static void reweight(const fx_q16_16_t *residual, uint16_t n, fx_q16_16_t sigma_
     }
 }
 
-bool tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_t passes,
+bool ego_tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_t passes,
               fx_q16_16_t sigma_min, fx_bam32_t *tangent, fx_q16_16_t *rms)
 {
     if (x == NULL || y == NULL || tangent == NULL || rms == NULL || count < 2u ||
-        count > TFIT_WINDOW_MAX) {
+        count > EGO_TFIT_WINDOW_MAX) {
         return false;
     }
-    int32_t w[TFIT_WINDOW_MAX];
+    int32_t w[EGO_TFIT_WINDOW_MAX];
     for (uint16_t k = 0u; k < count; k++) {
         w[k] = (int32_t)WEIGHT_ONE;
     }
@@ -162,12 +162,12 @@ bool tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_
     return true;
 }
 
-void tfit_fit_scan(ego_scan_t *scan, const tfit_params_t *params)
+void ego_tfit_fit_scan(ego_scan_t *scan, const ego_tfit_params_t *params)
 {
-    tfit_fit_scan_sample(scan, params, 0u, 1u);
+    ego_tfit_fit_scan_sample(scan, params, 0u, 1u);
 }
 
-void tfit_fit_scan_sample(ego_scan_t *scan, const tfit_params_t *params, uint16_t first_point,
+void ego_tfit_fit_scan_sample(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t first_point,
                           uint16_t stride)
 {
     stride = (stride < 1u) ? 1u : stride;
@@ -203,15 +203,15 @@ void tfit_fit_scan_sample(ego_scan_t *scan, const tfit_params_t *params, uint16_
             continue;
         }
         /* Relative to P[i]: small numbers, exact in Q16.16. */
-        fx_q16_16_t rx[TFIT_WINDOW_MAX];
-        fx_q16_16_t ry[TFIT_WINDOW_MAX];
+        fx_q16_16_t rx[EGO_TFIT_WINDOW_MAX];
+        fx_q16_16_t ry[EGO_TFIT_WINDOW_MAX];
         for (uint16_t k = 0u; k < count; k++) {
             rx[k] = fx_sub_q16(scan->x[first + k], scan->x[i]);
             ry[k] = fx_sub_q16(scan->y[first + k], scan->y[i]);
         }
         fx_bam32_t tangent = 0u;
         fx_q16_16_t rms = 0;
-        if (tfit_fit(rx, ry, count, params->passes, params->sigma_min, &tangent, &rms)) {
+        if (ego_tfit_fit(rx, ry, count, params->passes, params->sigma_min, &tangent, &rms)) {
             scan->tangent[i] = tangent;
             scan->tangent_rms[i] = (uint16_t)((rms > 0xFFFF) ? 0xFFFF : rms);
             scan->flags[i] |= EGO_POINT_HAS_TANGENT;

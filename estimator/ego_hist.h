@@ -1,20 +1,20 @@
-/* hist.h - angle histograms of a prepared scan and their circular
+/* ego_hist.h - angle histograms of a prepared scan and their circular
  * cross-correlation: the initial rotation between two scans (paper
  * section 4, eqs. 5-7).
  *
- * A histogram has HIST_BINS bins over 180 degrees (directions are lines,
- * modulo 180 deg): bin b covers [b, b + 1) * 180 / HIST_BINS deg. Four ways
+ * A histogram has EGO_HIST_BINS bins over 180 degrees (directions are lines,
+ * modulo 180 deg): bin b covers [b, b + 1) * 180 / EGO_HIST_BINS deg. Four ways
  * to fill it, all kept because the paper compares them:
  *
- *  HIST_AH     each linked, non-occlusion segment P[i] P[i+1] votes 1 for
+ *  EGO_HIST_AH     each linked, non-occlusion segment P[i] P[i+1] votes 1 for
  *              its direction;
- *  HIST_LAH    the same, voting the segment length (mm), so near objects
+ *  EGO_HIST_LAH    the same, voting the segment length (mm), so near objects
  *              do not dominate by point count;
- *  HIST_HAH    Hough angle histogram: point i votes every direction alpha
+ *  EGO_HIST_HAH    Hough angle histogram: point i votes every direction alpha
  *              for which its 2n + 1 neighbours lie within t_line of the
  *              line through P[i] along alpha (eqs. 6, 7); with an
  *              angle-of-interest mask, only the masked bins are tried;
- *  HIST_HTAH   the paper's method: the same test, but started at point i's
+ *  EGO_HIST_HTAH   the paper's method: the same test, but started at point i's
  *              robust tangent and stepped up and down one bin at a time
  *              while it passes (the votes are contiguous), so it stops
  *              early.
@@ -26,7 +26,7 @@
  * direction tested for a bin is the bin's centre.
  *
  * Correlation (eq. 5): c(j) = sum_i (hc(i) - mc)(hl(i + j) - ml) /
- * sqrt(sum (hc - mc)^2 sum (hl - ml)^2), indices modulo HIST_BINS, for
+ * sqrt(sum (hc - mc)^2 sum (hl - ml)^2), indices modulo EGO_HIST_BINS, for
  * shifts |j| <= max_shift_bins. The rotation theta of the current scan into
  * the last one (R(theta) P + T = P') shifts a direction by +theta, so the
  * argmax j gives theta = j * bin width, refined between bins by a parabola
@@ -36,85 +36,85 @@
  * are scaled down to at most 2^15 per bin, so every product sum fits int64
  * (see docs/fixed-point.md). Correlation values are Q2.30 in [-1, 1].
  * Bounded: AH/LAH O(N), HTAH O(N * (2n + 1) * run length), HAH
- * O(N * (2n + 1) * HIST_BINS), correlation O(HIST_BINS * (2 max_shift + 1)).
+ * O(N * (2n + 1) * EGO_HIST_BINS), correlation O(EGO_HIST_BINS * (2 max_shift + 1)).
  */
-#ifndef HIST_H
-#define HIST_H
+#ifndef EGO_HIST_H
+#define EGO_HIST_H
 
 #include <stdbool.h>
 #include <stdint.h>
 
 #include "ego_scan.h"
-#include "fx.h"
+#include "ego_fx.h"
 
 /* Bins over 180 degrees: 900 gives the paper's 0.2 deg. */
-#ifndef HIST_BINS
-#define HIST_BINS 900u
+#ifndef EGO_HIST_BINS
+#define EGO_HIST_BINS 900u
 #endif
 
 /* Rotation candidates kept from the correlation. */
-#ifndef HIST_MAX_CANDIDATES
-#define HIST_MAX_CANDIDATES 3u
+#ifndef EGO_HIST_MAX_CANDIDATES
+#define EGO_HIST_MAX_CANDIDATES 3u
 #endif
 
-_Static_assert(HIST_BINS >= 36u && HIST_BINS <= 4096u, "between 5 and 0.044 deg per bin");
+_Static_assert(EGO_HIST_BINS >= 36u && EGO_HIST_BINS <= 4096u, "between 5 and 0.044 deg per bin");
 
 typedef enum {
-    HIST_AH = 0,
-    HIST_LAH = 1,
-    HIST_HAH = 2,
-    HIST_HTAH = 3
-} hist_kind_t;
+    EGO_HIST_AH = 0,
+    EGO_HIST_LAH = 1,
+    EGO_HIST_HAH = 2,
+    EGO_HIST_HTAH = 3
+} ego_hist_kind_t;
 
 typedef struct {
-    hist_kind_t kind;
+    ego_hist_kind_t kind;
     uint8_t half_window;     /* n of the collinearity test; default 3 */
     fx_q16_16_t t_line;      /* half-width of the band, m; default 0.05 */
-    const uint8_t *aoi;      /* HAH only: HIST_BINS flags (nonzero = try this
+    const uint8_t *aoi;      /* HAH only: EGO_HIST_BINS flags (nonzero = try this
                                 bin), or NULL for every bin */
-} hist_params_t;
+} ego_hist_params_t;
 
-void hist_defaults(hist_params_t *params);
+void ego_hist_defaults(ego_hist_params_t *params);
 
 typedef struct {
-    uint32_t bin[HIST_BINS];
-} hist_t;
+    uint32_t bin[EGO_HIST_BINS];
+} ego_hist_t;
 
 /* Fills h from scan (HTAH needs tfit's tangents). Returns the number of
  * votes cast (for LAH, the number of segments). */
-uint32_t hist_build(const ego_scan_t *scan, const hist_params_t *params, hist_t *h);
+uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params, ego_hist_t *h);
 
 /* Angle-of-interest mask from a histogram: bins whose count is at least
  * threshold, widened by `widen` bins on each side (circularly). */
-void hist_aoi_mask(const hist_t *h, uint32_t threshold, uint16_t widen, uint8_t *mask);
+void ego_hist_aoi_mask(const ego_hist_t *h, uint32_t threshold, uint16_t widen, uint8_t *mask);
 
 /* Direction of the centre of bin b (mod 180 deg, bit 31 clear). */
-fx_bam32_t hist_bin_centre(uint16_t b);
+fx_bam32_t ego_hist_bin_centre(uint16_t b);
 
 /* Bin of a direction (taken mod 180 deg). */
-uint16_t hist_bin_of(fx_bam32_t direction);
+uint16_t ego_hist_bin_of(fx_bam32_t direction);
 
 /* The main direction of a scan: the centre of its largest bin. */
-fx_bam32_t hist_main_direction(const hist_t *h);
+fx_bam32_t ego_hist_main_direction(const ego_hist_t *h);
 
 typedef struct {
     fx_bam32_t rotation;       /* theta, current -> last, within 90 deg of the
                                   centre asked for, as a binary angle */
     fx_q2_30_t correlation;    /* c at the peak, Q2.30 in [-1, 1] */
-} hist_candidate_t;
+} ego_hist_candidate_t;
 
 typedef struct {
     uint8_t count;             /* candidates found (0 when a histogram is flat) */
-    hist_candidate_t candidate[HIST_MAX_CANDIDATES]; /* best first */
-} hist_match_t;
+    ego_hist_candidate_t candidate[EGO_HIST_MAX_CANDIDATES]; /* best first */
+} ego_hist_match_t;
 
 /* Correlates current against last for shifts within max_shift_bins (at
- * most HIST_BINS / 2) of centre (an expected rotation: a prior's, or 0) and
- * returns up to HIST_MAX_CANDIDATES local maxima, best first, peaks closer
+ * most EGO_HIST_BINS / 2) of centre (an expected rotation: a prior's, or 0) and
+ * returns up to EGO_HIST_MAX_CANDIDATES local maxima, best first, peaks closer
  * than merge_bins to a better one dropped. Line directions repeat every
  * 180 deg, so a candidate is the rotation nearest the centre among its
  * 180-deg alternatives. */
-void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre,
-                    uint16_t max_shift_bins, uint16_t merge_bins, hist_match_t *match);
+void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                    uint16_t max_shift_bins, uint16_t merge_bins, ego_hist_match_t *match);
 
-#endif /* HIST_H */
+#endif /* EGO_HIST_H */

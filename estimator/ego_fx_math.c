@@ -1,17 +1,17 @@
-/* fx_math.c - integer sin/cos, atan2 and square root (fx_math.h).
+/* ego_fx_math.c - integer sin/cos, atan2 and square root (ego_fx_math.h).
  *
  * Integer arithmetic only: 32 x 32 -> 64-bit multiplies, 32-bit unsigned
  * divisions (UDIV on a Cortex-M3), no 64-bit division, no libgcc helper
  * calls. Every loop has a fixed bound. Design notes, error bounds and
  * measured worst errors: docs/fixed-point.md.
  */
-#include "fx_math.h"
+#include "ego_fx_math.h"
 
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "fx.h"
-#include "fx_math_tables.h"
+#include "ego_fx.h"
+#include "ego_fx_math_tables.h"
 
 /* ------------------------------------------------------------------------
  * sin / cos

@@ -1,4 +1,4 @@
-/* fx.h - fixed-point types and helpers of the estimator.
+/* ego_fx.h - fixed-point types and helpers of the estimator.
  *
  * Convention (CMSIS-DSP's): Qm.n has m integer bits including the sign and
  * n fraction bits. The format is in every type name; docs/fixed-point.md

@@ -1,4 +1,4 @@
-/* fx_math.h - integer trigonometry and square root of the estimator.
+/* ego_fx_math.h - integer trigonometry and square root of the estimator.
  *
  * The project's own routines (no libm): same bits on the host and on a
  * Cortex-M. Each one is tested over its whole input range against a host
@@ -6,14 +6,14 @@
  * integer arithmetic for the root); the worst errors, in LSB and in
  * physical units, are in docs/fixed-point.md. Pure functions, reentrant,
  * bounded time, no 64-bit division; tables are static const (flash,
- * 3076 bytes in fx_math_tables.h).
+ * 3076 bytes in ego_fx_math_tables.h).
  */
 #ifndef FX_MATH_H
 #define FX_MATH_H
 
 #include <stdint.h>
 
-#include "fx.h"
+#include "ego_fx.h"
 
 /* sin and cos of a binary angle, Q2.30 (1.0 = 0x40000000, exactly reached
  * at 0, 90, 180, 270 deg). Both outputs must be non-NULL.

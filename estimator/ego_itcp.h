@@ -1,4 +1,4 @@
-/* itcp.h - ITCP: iterative tangent-weighted closest point (paper section
+/* ego_itcp.h - ITCP: iterative tangent-weighted closest point (paper section
  * 5, eqs. 8-12), and plain ICP as a selectable mode.
  *
  * Each iteration matches every current point P (moved by the pose guess to
@@ -11,7 +11,7 @@
  * and stops on each side once a point's bearing leaves the cone that the
  * disc of the search radius around Q subtends (a segment between two
  * points outside the cone on the same side cannot reach the disc), or
- * after ITCP_MAX_WALK points.
+ * after EGO_ITCP_MAX_WALK points.
  *
  * A match is kept when it lies within the search radius, which shrinks
  * from radius_start by radius_shrink per iteration down to radius_min, and
@@ -39,19 +39,19 @@
  * aperture_ratio (a corridor: translation along the main direction is not
  * observable).
  */
-#ifndef ITCP_H
-#define ITCP_H
+#ifndef EGO_ITCP_H
+#define EGO_ITCP_H
 
 #include <stdbool.h>
 #include <stdint.h>
 
 #include "ego_pose.h"
 #include "ego_scan.h"
-#include "fx.h"
+#include "ego_fx.h"
 
 /* Most last-scan points looked at on each side of a current point. */
-#ifndef ITCP_MAX_WALK
-#define ITCP_MAX_WALK 96u
+#ifndef EGO_ITCP_MAX_WALK
+#define EGO_ITCP_MAX_WALK 96u
 #endif
 
 typedef struct {
@@ -77,12 +77,12 @@ typedef struct {
                                         default); the bounded profile's work cap */
 } itcp_params_t;
 
-void itcp_defaults(itcp_params_t *params);
+void ego_itcp_defaults(itcp_params_t *params);
 
 /* The step between the current points ITCP matches: 1, or with
  * max_points the smallest that takes at most max_points of count; the
  * first is stride / 2. */
-uint16_t itcp_sample_stride(uint16_t count, uint16_t max_points);
+uint16_t ego_itcp_sample_stride(uint16_t count, uint16_t max_points);
 
 typedef struct {
     ego_pose_t pose;
@@ -98,13 +98,13 @@ typedef struct {
     fx_q2_30_t group_fit[2];   /* their soft inlier share: mean over the group's points
                                   of max(0, 1 - d^2 / inlier_distance^2), 0..1 */
     fx_q16_16_t residual;    /* RMS match distance at the final pose, m */
-} itcp_result_t;
+} ego_itcp_result_t;
 
 typedef enum {
-    ITCP_OK = 0,
-    ITCP_ERR_ARG = -1,
-    ITCP_ERR_FEW_MATCHES = -2 /* fewer than min_matches: result holds the last pose */
-} itcp_status_t;
+    EGO_ITCP_OK = 0,
+    EGO_ITCP_ERR_ARG = -1,
+    EGO_ITCP_ERR_FEW_MATCHES = -2 /* fewer than min_matches: result holds the last pose */
+} ego_itcp_status_t;
 
 /* The closed form on its own (for tests and the coarse search): matched
  * pairs (x, y) -> (u, v) accumulated per group. |coordinates| < 2^24
@@ -113,42 +113,42 @@ typedef struct {
     int64_t n;
     int64_t sx, sy, su, sv;
     int64_t sxu, sxv, syu, syv;
-} itcp_group_sums_t;
+} ego_itcp_group_sums_t;
 
 typedef struct {
-    itcp_group_sums_t group[2]; /* [0] on the main direction, [1] the others */
-} itcp_sums_t;
+    ego_itcp_group_sums_t group[2]; /* [0] on the main direction, [1] the others */
+} ego_itcp_sums_t;
 
-void itcp_sums_clear(itcp_sums_t *sums);
-void itcp_sums_add(itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
+void ego_itcp_sums_clear(ego_itcp_sums_t *sums);
+void ego_itcp_sums_add(ego_itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t u,
                    fx_q16_16_t v);
 
 /* Eq. 12: the pose minimising the weighted squared distances, lambda by
  * eq. 10 when weighted, all equal otherwise; hold_theta keeps pose->theta
  * and solves the translation only. No pairs: *pose is left alone. */
-void itcp_solve(const itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pose_t *pose);
+void ego_itcp_solve(const ego_itcp_sums_t *sums, bool weighted, bool hold_theta, ego_pose_t *pose);
 
 /* Squared distance (Q32.32) from (qx, qy) to the nearest surface of last
  * (segment, or a lone point) within radius, found through the scan order
  * like the matches: false when there is none. For the coarse search. */
-bool itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
+bool ego_itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
                   uint64_t *dist_sq);
 
 /* Did the last scan see empty space more than margin beyond (qx, qy)
  * (its beams on both sides of that bearing reach further)? */
-bool itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
+bool ego_itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy,
                        fx_q16_16_t margin);
 
-/* itcp_nearest and then, unless a surface lies closer than radius,
- * itcp_seen_through, for one point at a time (its place in the scan order
+/* ego_itcp_nearest and then, unless a surface lies closer than radius,
+ * ego_itcp_seen_through, for one point at a time (its place in the scan order
  * found once, starting where the last point's was). *dist_sq as
- * itcp_nearest's. For the coarse search: prepare once per last scan with
- * itcp_prober_init. */
+ * ego_itcp_nearest's. For the coarse search: prepare once per last scan with
+ * ego_itcp_prober_init. */
 typedef enum {
-    ITCP_PROBE_NOTHING = 0,     /* no surface closer than radius, no free space */
-    ITCP_PROBE_SURFACE = 1,     /* a surface closer than radius: *dist_sq < radius^2 */
-    ITCP_PROBE_SEEN_THROUGH = 2 /* none, and the last scan saw margin beyond the point */
-} itcp_probe_t;
+    EGO_ITCP_PROBE_NOTHING = 0,     /* no surface closer than radius, no free space */
+    EGO_ITCP_PROBE_SURFACE = 1,     /* a surface closer than radius: *dist_sq < radius^2 */
+    EGO_ITCP_PROBE_SEEN_THROUGH = 2 /* none, and the last scan saw margin beyond the point */
+} ego_itcp_probe_t;
 
 typedef struct {
     /* Private. */
@@ -158,17 +158,17 @@ typedef struct {
     fx_q16_16_t margin;
     uint64_t radius_sq;
     uint16_t hint;
-} itcp_prober_t;
+} ego_itcp_prober_t;
 
-void itcp_prober_init(itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radius,
+void ego_itcp_prober_init(ego_itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radius,
                       fx_q16_16_t margin);
-itcp_probe_t itcp_probe(itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq);
+ego_itcp_probe_t ego_itcp_probe(ego_itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq);
 
 /* Registers current against last from *initial. main_direction is the
- * dominant line direction in the last scan's frame (hist_main_direction). */
-itcp_status_t itcp_register(const ego_scan_t *last, const ego_scan_t *current,
+ * dominant line direction in the last scan's frame (ego_hist_main_direction). */
+ego_itcp_status_t ego_itcp_register(const ego_scan_t *last, const ego_scan_t *current,
                             fx_bam32_t main_direction, const ego_pose_t *initial,
                             bool hold_rotation, const itcp_params_t *params,
-                            itcp_result_t *result);
+                            ego_itcp_result_t *result);
 
-#endif /* ITCP_H */
+#endif /* EGO_ITCP_H */

@@ -1,18 +1,18 @@
-/* coarse.c - see coarse.h. */
-#include "coarse.h"
+/* ego_coarse.c - see ego_coarse.h. */
+#include "ego_coarse.h"
 
 #include <stddef.h>
 #include <string.h>
 
-#include "fx_math.h"
-#include "itcp.h"
+#include "ego_fx_math.h"
+#include "ego_itcp.h"
 
 /* Largest sample; the defaults use 48. */
-#define COARSE_MAX_SAMPLE 128u
+#define EGO_COARSE_MAX_SAMPLE 128u
 /* Most translation steps on each side of the centre. */
-#define COARSE_MAX_STEPS 20
+#define EGO_COARSE_MAX_STEPS 20
 
-void coarse_defaults(coarse_params_t *params)
+void ego_coarse_defaults(ego_coarse_params_t *params)
 {
     memset(params, 0, sizeof *params);
     params->window = FX_Q16_16_C(0.6);
@@ -33,7 +33,7 @@ void coarse_defaults(coarse_params_t *params)
  * hold only one or two of them. */
 typedef struct {
     uint16_t count[2];
-    uint16_t index[2][COARSE_MAX_SAMPLE];
+    uint16_t index[2][EGO_COARSE_MAX_SAMPLE];
 } sample_t;
 
 /* Same rule as ITCP's: tangent directions modulo 180 deg. */
@@ -75,8 +75,8 @@ static void take_group(const ego_scan_t *cur, fx_bam32_t main_dir, fx_bam32_t to
 static void take_sample(const ego_scan_t *cur, fx_bam32_t main_dir, fx_bam32_t tol,
                         uint16_t wanted, sample_t *s)
 {
-    if (wanted > COARSE_MAX_SAMPLE) {
-        wanted = COARSE_MAX_SAMPLE;
+    if (wanted > EGO_COARSE_MAX_SAMPLE) {
+        wanted = EGO_COARSE_MAX_SAMPLE;
     }
     uint16_t members[2] = {0u, 0u};
     for (uint16_t i = 0u; i < cur->count; i++) {
@@ -149,8 +149,8 @@ static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const 
     fx_sincos(pose->theta, &sn, &cs);
     const uint64_t sigma_sq = (uint64_t)((int64_t)sigma * sigma);
     const uint64_t per_point = sigma_sq >> 16; /* Q16.16 m^2 */
-    itcp_prober_t prober;
-    itcp_prober_init(&prober, last, sigma, 2 * sigma);
+    ego_itcp_prober_t prober;
+    ego_itcp_prober_init(&prober, last, sigma, 2 * sigma);
     tally_t t[2] = {{0u, 0u}, {0u, 0u}};
     for (uint8_t g = 0u; g < 2u; g++) {
         for (uint16_t k = 0u; k < s->count[g]; k++) {
@@ -159,10 +159,10 @@ static uint64_t score_pose(const ego_scan_t *last, const ego_scan_t *cur, const 
             fx_q16_16_t qy;
             ego_pose_apply(pose, sn, cs, cur->x[i], cur->y[i], &qx, &qy);
             uint64_t d2 = 0u;
-            const itcp_probe_t found = itcp_probe(&prober, qx, qy, &d2);
-            if (found == ITCP_PROBE_SURFACE) {
+            const ego_itcp_probe_t found = ego_itcp_probe(&prober, qx, qy, &d2);
+            if (found == EGO_ITCP_PROBE_SURFACE) {
                 t[g].score += (sigma_sq - d2) >> 16;
-            } else if (found == ITCP_PROBE_SEEN_THROUGH) {
+            } else if (found == EGO_ITCP_PROBE_SEEN_THROUGH) {
                 t[g].penalty += per_point; /* in space the last scan saw empty */
             }
             const uint32_t left = (uint32_t)s->count[g] - k - 1u;
@@ -184,7 +184,7 @@ static int32_t steps_in(fx_q16_16_t half, fx_q16_16_t step)
         return 0;
     }
     const int32_t n = half / step;
-    return (n > COARSE_MAX_STEPS) ? COARSE_MAX_STEPS : n;
+    return (n > EGO_COARSE_MAX_STEPS) ? EGO_COARSE_MAX_STEPS : n;
 }
 
 /* One square grid of translations around a pose, and the best pose so far. */
@@ -243,8 +243,8 @@ static void grid(const ego_scan_t *last, const ego_scan_t *cur, const sample_t *
     *best_score = g.best_score;
 }
 
-void coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t main_direction,
-                   const ego_pose_t *centre, const coarse_params_t *params, ego_pose_t *best,
+void ego_coarse_search(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t main_direction,
+                   const ego_pose_t *centre, const ego_coarse_params_t *params, ego_pose_t *best,
                    uint64_t *score)
 {
     *best = *centre;

@@ -1,36 +1,36 @@
-/* hist.c - see hist.h. */
-#include "hist.h"
+/* ego_hist.c - see ego_hist.h. */
+#include "ego_hist.h"
 
 #include <stddef.h>
 #include <string.h>
 
-#include "fx_math.h"
+#include "ego_fx_math.h"
 
 /* Local maxima of the correlation kept before choosing candidates. */
 #define PEAKS_MAX 16u
-/* Bins are scaled to at most this before correlating (see hist.h). */
+/* Bins are scaled to at most this before correlating (see ego_hist.h). */
 #define SCALED_MAX 0x8000u
 
-void hist_defaults(hist_params_t *params)
+void ego_hist_defaults(ego_hist_params_t *params)
 {
     memset(params, 0, sizeof *params);
-    params->kind = HIST_HTAH;
+    params->kind = EGO_HIST_HTAH;
     params->half_window = 3u;
     params->t_line = FX_Q16_16_C(0.05);
     params->aoi = NULL;
 }
 
-uint16_t hist_bin_of(fx_bam32_t direction)
+uint16_t ego_hist_bin_of(fx_bam32_t direction)
 {
     const uint32_t half = direction & (FX_BAM32_HALF - 1u); /* mod 180 deg */
-    return (uint16_t)(((uint64_t)half * HIST_BINS) >> 31);
+    return (uint16_t)(((uint64_t)half * EGO_HIST_BINS) >> 31);
 }
 
-fx_bam32_t hist_bin_centre(uint16_t b)
+fx_bam32_t ego_hist_bin_centre(uint16_t b)
 {
-    /* (b + 1/2) * 2^31 / HIST_BINS, rounded. */
+    /* (b + 1/2) * 2^31 / EGO_HIST_BINS, rounded. */
     const uint64_t twice = (uint64_t)(2u * b + 1u) << 30;
-    return (fx_bam32_t)((twice + HIST_BINS / 2u) / HIST_BINS);
+    return (fx_bam32_t)((twice + EGO_HIST_BINS / 2u) / EGO_HIST_BINS);
 }
 
 /* Direction of the segment from point i to i + 1, mod 180 deg. */
@@ -85,7 +85,7 @@ typedef struct {
  *   D_k(phi) = A_k cos(phi) - B_k sin(phi),
  *   A_k = 2 ry_k - ry_first - ry_last,  B_k = 2 rx_k - rx_first - rx_last,
  * so it changes by at most (|A_k| + |B_k|) |dphi|. Neighbouring bin
- * centres are at most 2386093 binary-angle units apart (2^31 / HIST_BINS,
+ * centres are at most 2386093 binary-angle units apart (2^31 / EGO_HIST_BINS,
  * rounded up), 0.0034907 rad: bounded by BIN_STEP_PPM micro-radians. The
  * fixed-point deviation that band_test computes is within 4.2 LSB of D_k
  * (each product rounds by 0.5 LSB, the sine and cosine are within 0.76
@@ -145,7 +145,7 @@ static bool band_test(const window_t *w, fx_q16_16_t t_line, uint16_t b, uint32_
     *skip = 0u;
     fx_q2_30_t s;
     fx_q2_30_t c;
-    fx_sincos(hist_bin_centre(b), &s, &c);
+    fx_sincos(ego_hist_bin_centre(b), &s, &c);
     const uint16_t last = (uint16_t)(w->count - 1u);
     const fx_q16_16_t d_first = line_offset(w, 0u, s, c);
     const fx_q16_16_t d_last = line_offset(w, last, s, c);
@@ -163,7 +163,7 @@ static bool band_test(const window_t *w, fx_q16_16_t t_line, uint16_t b, uint32_
     }
     const int64_t slack = limit - worst - DEVIATION_ERROR;
     if (slack > 0 && w->drift_per_bin != UINT32_MAX) {
-        *skip = (w->drift_per_bin == 0u) ? HIST_BINS : (uint32_t)(slack / w->drift_per_bin);
+        *skip = (w->drift_per_bin == 0u) ? EGO_HIST_BINS : (uint32_t)(slack / w->drift_per_bin);
     }
     return true;
 }
@@ -177,17 +177,17 @@ static bool band_holds(const window_t *w, fx_q16_16_t t_line, uint16_t b)
 static uint16_t bin_step(uint16_t b, int direction)
 {
     if (direction > 0) {
-        return (uint16_t)((b + 1u == HIST_BINS) ? 0u : b + 1u);
+        return (uint16_t)((b + 1u == EGO_HIST_BINS) ? 0u : b + 1u);
     }
-    return (uint16_t)((b == 0u) ? HIST_BINS - 1u : b - 1u);
+    return (uint16_t)((b == 0u) ? EGO_HIST_BINS - 1u : b - 1u);
 }
 
 /* HTAH votes of point i: the contiguous run of passing bins around its
- * tangent. At most HIST_BINS bins; the bins band_test vouches for are
+ * tangent. At most EGO_HIST_BINS bins; the bins band_test vouches for are
  * counted without being tested. */
-static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_t *p, hist_t *h)
+static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const ego_hist_params_t *p, ego_hist_t *h)
 {
-    const uint16_t start = hist_bin_of(scan->tangent[i]);
+    const uint16_t start = ego_hist_bin_of(scan->tangent[i]);
     window_t w;
     uint32_t start_skip = 0u;
     if (!window_of(scan, i, p->half_window, &w) || !band_test(&w, p->t_line, start, &start_skip)) {
@@ -230,7 +230,7 @@ static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const hist_params_
     return votes;
 }
 
-uint32_t hist_build(const ego_scan_t *scan, const hist_params_t *params, hist_t *h)
+uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params, ego_hist_t *h)
 {
     memset(h, 0, sizeof *h);
     uint32_t votes = 0u;
@@ -238,24 +238,24 @@ uint32_t hist_build(const ego_scan_t *scan, const hist_params_t *params, hist_t 
     n = (n < 1u) ? 1u : (n > EGO_TFIT_MAX_HALF_WINDOW ? EGO_TFIT_MAX_HALF_WINDOW : n);
 
     switch (params->kind) {
-    case HIST_AH:
-    case HIST_LAH:
+    case EGO_HIST_AH:
+    case EGO_HIST_LAH:
         for (uint16_t i = 0u; i + 1u < scan->count; i++) {
             if (!is_surface(scan, i)) {
                 continue;
             }
-            const uint16_t b = hist_bin_of(segment_direction(scan, i));
-            h->bin[b] += (params->kind == HIST_AH) ? 1u : segment_length_mm(scan, i);
+            const uint16_t b = ego_hist_bin_of(segment_direction(scan, i));
+            h->bin[b] += (params->kind == EGO_HIST_AH) ? 1u : segment_length_mm(scan, i);
             votes++;
         }
         break;
-    case HIST_HAH:
+    case EGO_HIST_HAH:
         for (uint16_t i = 0u; i < scan->count; i++) {
             window_t w;
             if (!has_full_window(scan, i, n) || !window_of(scan, i, n, &w)) {
                 continue;
             }
-            for (uint16_t b = 0u; b < HIST_BINS; b++) {
+            for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
                 if ((params->aoi == NULL || params->aoi[b] != 0u) &&
                     band_holds(&w, params->t_line, b)) {
                     h->bin[b]++;
@@ -264,7 +264,7 @@ uint32_t hist_build(const ego_scan_t *scan, const hist_params_t *params, hist_t 
             }
         }
         break;
-    case HIST_HTAH:
+    case EGO_HIST_HTAH:
         for (uint16_t i = 0u; i < scan->count; i++) {
             if ((scan->flags[i] & EGO_POINT_HAS_TANGENT) != 0u && has_full_window(scan, i, n)) {
                 votes += vote_htah(scan, i, params, h);
@@ -275,38 +275,38 @@ uint32_t hist_build(const ego_scan_t *scan, const hist_params_t *params, hist_t 
     return votes;
 }
 
-void hist_aoi_mask(const hist_t *h, uint32_t threshold, uint16_t widen, uint8_t *mask)
+void ego_hist_aoi_mask(const ego_hist_t *h, uint32_t threshold, uint16_t widen, uint8_t *mask)
 {
-    memset(mask, 0, HIST_BINS);
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    memset(mask, 0, EGO_HIST_BINS);
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         if (h->bin[b] < threshold || h->bin[b] == 0u) {
             continue;
         }
         for (int32_t k = -(int32_t)widen; k <= (int32_t)widen; k++) {
-            const int32_t m = ((int32_t)b + k + (int32_t)HIST_BINS * 2) % (int32_t)HIST_BINS;
+            const int32_t m = ((int32_t)b + k + (int32_t)EGO_HIST_BINS * 2) % (int32_t)EGO_HIST_BINS;
             mask[m] = 1u;
         }
     }
 }
 
-fx_bam32_t hist_main_direction(const hist_t *h)
+fx_bam32_t ego_hist_main_direction(const ego_hist_t *h)
 {
     uint16_t best = 0u;
-    for (uint16_t b = 1u; b < HIST_BINS; b++) {
+    for (uint16_t b = 1u; b < EGO_HIST_BINS; b++) {
         if (h->bin[b] > h->bin[best]) {
             best = b;
         }
     }
-    return hist_bin_centre(best);
+    return ego_hist_bin_centre(best);
 }
 
 /* A histogram scaled down: s[i] = bin[i] >> shift, with shift chosen so
  * that no s[i] exceeds SCALED_MAX, and sum = sum of s[i]. The correlation
- * of eq. 5 needs the centred values a[i] = HIST_BINS s[i] - sum; because
+ * of eq. 5 needs the centred values a[i] = EGO_HIST_BINS s[i] - sum; because
  * sum(a) = 0 the centring comes out of the sums:
  *   sum_i a[i] b[i + j] = M (M sum_i s[i] t[i + j] - S T)
  *   sum_i a[i]^2        = M (M sum_i s[i]^2 - S^2)
- * (M = HIST_BINS), so each shift costs one plain dot product of the scaled
+ * (M = EGO_HIST_BINS), so each shift costs one plain dot product of the scaled
  * bins: products < 2^30, sums < 2^40, M times them < 2^50. */
 typedef struct {
     const uint32_t *bin;
@@ -314,17 +314,17 @@ typedef struct {
     int64_t sum;
 } scaled_t;
 
-static scaled_t scale(const hist_t *h)
+static scaled_t scale(const ego_hist_t *h)
 {
     uint32_t max = 0u;
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         max = (h->bin[b] > max) ? h->bin[b] : max;
     }
     scaled_t c = {h->bin, 0u, 0};
     while ((max >> c.shift) > SCALED_MAX) {
         c.shift++;
     }
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         c.sum += (int64_t)(h->bin[b] >> c.shift);
     }
     return c;
@@ -344,34 +344,34 @@ static uint64_t dot_run(const uint32_t *a, unsigned sa, const uint32_t *b, unsig
 /* The runs of bins of a scaled histogram that are not zero: a tangent
  * histogram has most of its bins empty, and every shift's dot product
  * needs only these. Too many runs: `dense`, use every bin. */
-#define HIST_MAX_RUNS 16u /* seen: at most 4 on every stream */
+#define EGO_HIST_MAX_RUNS 16u /* seen: at most 4 on every stream */
 
 typedef struct {
     uint16_t start;
     uint16_t length;
 } run_t;
 
-/* More runs than that, but at most HIST_MAX_SCATTERED bins that are not
+/* More runs than that, but at most EGO_HIST_MAX_SCATTERED bins that are not
  * zero (a plain angle histogram of a short scan: single votes spread
  * over many directions): the list of those bins. */
-#define HIST_MAX_SCATTERED 128u
+#define EGO_HIST_MAX_SCATTERED 128u
 
 typedef struct {
     bool dense;
     uint8_t count;
-    run_t run[HIST_MAX_RUNS];
+    run_t run[EGO_HIST_MAX_RUNS];
     uint16_t scattered;               /* bins in bin[] (valid when dense) */
-    uint16_t bin[HIST_MAX_SCATTERED]; /* ... or 0 when there are more */
+    uint16_t bin[EGO_HIST_MAX_SCATTERED]; /* ... or 0 when there are more */
 } runs_t;
 
 static void find_scattered(const scaled_t *a, runs_t *r)
 {
     r->scattered = 0u;
-    for (uint16_t b = 0u; b < HIST_BINS; b++) {
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         if ((a->bin[b] >> a->shift) == 0u) {
             continue;
         }
-        if (r->scattered == HIST_MAX_SCATTERED) {
+        if (r->scattered == EGO_HIST_MAX_SCATTERED) {
             r->scattered = 0u;
             return;
         }
@@ -385,18 +385,18 @@ static void find_runs(const scaled_t *a, runs_t *r)
     r->count = 0u;
     r->scattered = 0u;
     uint16_t b = 0u;
-    while (b < HIST_BINS) { /* each bin is passed once */
+    while (b < EGO_HIST_BINS) { /* each bin is passed once */
         if ((a->bin[b] >> a->shift) == 0u) {
             b++;
             continue;
         }
-        if (r->count == HIST_MAX_RUNS) {
+        if (r->count == EGO_HIST_MAX_RUNS) {
             r->dense = true;
             find_scattered(a, r);
             return;
         }
         const uint16_t start = b;
-        while (b < HIST_BINS && (a->bin[b] >> a->shift) != 0u) {
+        while (b < EGO_HIST_BINS && (a->bin[b] >> a->shift) != 0u) {
             b++;
         }
         r->run[r->count].start = start;
@@ -413,30 +413,30 @@ static int64_t dot_shifted(const scaled_t *a, const runs_t *runs, const scaled_t
                            int32_t shift)
 {
     const uint32_t k =
-        (uint32_t)((shift % (int32_t)HIST_BINS + (int32_t)HIST_BINS) % (int32_t)HIST_BINS);
+        (uint32_t)((shift % (int32_t)EGO_HIST_BINS + (int32_t)EGO_HIST_BINS) % (int32_t)EGO_HIST_BINS);
     uint64_t dot = 0u;
     if (runs != NULL && runs->dense && runs->scattered > 0u) {
         for (uint16_t e = 0u; e < runs->scattered; e++) {
             const uint32_t i = runs->bin[e];
-            const uint32_t at = (i + k < HIST_BINS) ? i + k : i + k - HIST_BINS;
+            const uint32_t at = (i + k < EGO_HIST_BINS) ? i + k : i + k - EGO_HIST_BINS;
             dot += (uint64_t)(a->bin[i] >> a->shift) * (b->bin[at] >> b->shift);
         }
     } else if (runs == NULL || runs->dense) {
-        const uint32_t first = HIST_BINS - k; /* i = 0 .. first - 1 meet b[k .. M - 1] */
+        const uint32_t first = EGO_HIST_BINS - k; /* i = 0 .. first - 1 meet b[k .. M - 1] */
         dot = dot_run(a->bin, a->shift, &b->bin[k], b->shift, first) +
               dot_run(&a->bin[first], a->shift, b->bin, b->shift, k);
     } else {
         for (uint8_t r = 0u; r < runs->count; r++) {
             const uint32_t start = runs->run[r].start;
             const uint32_t length = runs->run[r].length;
-            const uint32_t at = (start + k) % HIST_BINS; /* b's index of a[start] */
-            const uint32_t straight = (HIST_BINS - at < length) ? HIST_BINS - at : length;
+            const uint32_t at = (start + k) % EGO_HIST_BINS; /* b's index of a[start] */
+            const uint32_t straight = (EGO_HIST_BINS - at < length) ? EGO_HIST_BINS - at : length;
             dot += dot_run(&a->bin[start], a->shift, &b->bin[at], b->shift, straight);
             dot += dot_run(&a->bin[start + straight], a->shift, b->bin, b->shift,
                            length - straight);
         }
     }
-    return (int64_t)HIST_BINS * (int64_t)dot - a->sum * b->sum;
+    return (int64_t)EGO_HIST_BINS * (int64_t)dot - a->sum * b->sum;
 }
 
 /* num / den as Q2.30, |num| <= den (Cauchy-Schwarz), den > 0. */
@@ -497,14 +497,14 @@ static fx_bam32_t peak_rotation(const peak_t *p)
         }
         offset_q16 = (offset_q16 > 32768) ? 32768 : (offset_q16 < -32768 ? -32768 : offset_q16);
     }
-    /* (shift + offset) bins * 2^31 / HIST_BINS; wraps modulo a turn. */
+    /* (shift + offset) bins * 2^31 / EGO_HIST_BINS; wraps modulo a turn. */
     const int64_t bins_q16 = (int64_t)p->shift * 65536 + offset_q16;
-    const int64_t bam = (bins_q16 * ((int64_t)1 << 15)) / (int64_t)HIST_BINS;
+    const int64_t bam = (bins_q16 * ((int64_t)1 << 15)) / (int64_t)EGO_HIST_BINS;
     return (fx_bam32_t)(uint64_t)bam;
 }
 
-void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre,
-                    uint16_t max_shift_bins, uint16_t merge_bins, hist_match_t *match)
+void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                    uint16_t max_shift_bins, uint16_t merge_bins, ego_hist_match_t *match)
 {
     memset(match, 0, sizeof *match);
     const scaled_t a = scale(current);
@@ -518,10 +518,10 @@ void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre
     }
     const int64_t den = (int64_t)fx_sqrt_u64((uint64_t)na) * (int64_t)fx_sqrt_u64((uint64_t)nb);
     const int32_t limit =
-        (int32_t)((max_shift_bins < HIST_BINS / 2u) ? max_shift_bins : HIST_BINS / 2u - 1u);
+        (int32_t)((max_shift_bins < EGO_HIST_BINS / 2u) ? max_shift_bins : EGO_HIST_BINS / 2u - 1u);
 
-    /* The centre in bins (0.2 deg), rounded: |c| <= HIST_BINS. */
-    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)HIST_BINS;
+    /* The centre in bins (0.2 deg), rounded: |c| <= EGO_HIST_BINS. */
+    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)EGO_HIST_BINS;
     const int32_t mid = (int32_t)((centre_q + (centre_q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) /
                                   ((int64_t)1 << 31));
 
@@ -539,8 +539,8 @@ void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre
         here = after;
     }
     /* Best first; a peak within merge_bins of a better one kept is dropped. */
-    int32_t kept[HIST_MAX_CANDIDATES] = {0};
-    for (uint8_t k = 0u; k < npeaks && match->count < HIST_MAX_CANDIDATES; k++) {
+    int32_t kept[EGO_HIST_MAX_CANDIDATES] = {0};
+    for (uint8_t k = 0u; k < npeaks && match->count < EGO_HIST_MAX_CANDIDATES; k++) {
         bool near = false;
         for (uint8_t m = 0u; m < match->count; m++) {
             const int32_t gap = peaks[k].shift - kept[m];
@@ -550,7 +550,7 @@ void hist_correlate(const hist_t *current, const hist_t *last, fx_bam32_t centre
             continue;
         }
         kept[match->count] = peaks[k].shift;
-        hist_candidate_t *c = &match->candidate[match->count++];
+        ego_hist_candidate_t *c = &match->candidate[match->count++];
         c->rotation = peak_rotation(&peaks[k]);
         c->correlation = ratio_q30(peaks[k].value, den);
     }

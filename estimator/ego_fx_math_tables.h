@@ -1,9 +1,9 @@
-/* fx_math_tables.h - tables of fx_math.c (static const, flash). GENERATED,
+/* ego_fx_math_tables.h - tables of ego_fx_math.c (static const, flash). GENERATED,
  * do not edit; regenerate with
  *
- *   python3 host_tests/tools/gen_fx_tables.py > estimator/fx_math_tables.h
+ *   python3 host_tests/tools/gen_fx_tables.py > estimator/ego_fx_math_tables.h
  *
- * Included by fx_math.c only. docs/fixed-point.md describes the kernels.
+ * Included by ego_fx_math.c only. docs/fixed-point.md describes the kernels.
  */
 #ifndef FX_MATH_TABLES_H
 #define FX_MATH_TABLES_H
