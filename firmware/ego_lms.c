@@ -1,0 +1,2 @@
+/* ego_lms.c - see ego_lms.h. */
+#include "ego_lms.h"

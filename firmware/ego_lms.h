@@ -1,0 +1,3 @@
+#ifndef EGO_LMS_H
+#define EGO_LMS_H
+#endif
