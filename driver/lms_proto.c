@@ -43,6 +43,19 @@ unsigned lms_meas_mode_bits(uint8_t mode)
     }
 }
 
+uint32_t lms_scan_period_us(uint16_t values)
+{
+    switch (values) {
+    case 361u:
+    case 201u:
+        return 26667u;
+    case 401u:
+        return 53333u;
+    default:
+        return 13333u;
+    }
+}
+
 uint32_t lms_baud_bps(lms_baud_t baud)
 {
     switch (baud) {

@@ -125,6 +125,14 @@ typedef enum {
 /* Bits per second of a rate (9600 .. 500000); 0 for an unknown enum. */
 uint32_t lms_baud_bps(lms_baud_t baud);
 
+/* The mirror time of a scan of this many values, in microseconds: one
+ * turn (13.3 ms, 75 Hz) per pass of 1-degree steps, so 361 and 201 values
+ * (0.5 deg, two interlaced turns) take 26.7 ms and 401 values (0.25 deg,
+ * four) 53.3 ms; every other count, partial scans included, one turn. The
+ * one place that knows the scan period (the session adds the line's limit
+ * at slow rates). */
+uint32_t lms_scan_period_us(uint16_t values);
+
 /* Operating modes (the byte after command 0x20) used by this project. */
 typedef enum {
     LMS_MODE_INSTALLATION = 0x00,   /* needs the 8-byte password */

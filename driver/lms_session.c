@@ -135,15 +135,8 @@ static uint16_t variant_values(uint16_t angle_deg, uint16_t resolution_cdeg, boo
  * scans the line cannot carry). */
 uint32_t lms_session_scan_interval_us(const lms_session_t *s)
 {
-    const bool partial = s->config.partial;
-    const uint16_t res = s->info.resolution_cdeg;
-    uint32_t period = 13333u;
-    if (!partial && res == 50u) {
-        period = 26667u;
-    } else if (!partial && res == 25u) {
-        period = 53333u;
-    }
-    const uint32_t n = variant_values(s->info.angle_deg, res, partial);
+    const uint32_t n = variant_values(s->info.angle_deg, s->info.resolution_cdeg, s->config.partial);
+    const uint32_t period = lms_scan_period_us((uint16_t)n);
     const uint32_t bps = lms_baud_bps(s->info.baud);
     if (bps == 0u) {
         return period;

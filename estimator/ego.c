@@ -46,7 +46,7 @@ void ego_defaults(ego_params_t *params)
 void ego_defaults_bounded(ego_params_t *params)
 {
     ego_defaults(params);
-    params->prep.beam_spacing_cdeg = 100u; /* 1 deg */
+    params->prep.beam_spacing = FX_BAM32_DEG_C(1.0);
     params->tfit.passes = 0u;
     params->hist.kind = EGO_HIST_AH;
     params->max_rotation_bins = (uint16_t)(EGO_HIST_BINS / 36u); /* 5 deg */
@@ -234,14 +234,14 @@ static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_st
     return a->residual < b->residual;
 }
 
-ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const lms_scan_t *scan,
+ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                          uint32_t time_us, ego_output_t *out)
 {
     return ego_process_with_prior(state, params, scan, time_us, NULL, out);
 }
 
 ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *params,
-                                    const lms_scan_t *scan, uint32_t time_us,
+                                    const ego_range_scan_t *scan, uint32_t time_us,
                                     const ego_pose_t *prior, ego_output_t *out)
 {
     if (state == NULL || params == NULL || scan == NULL || out == NULL) {

@@ -1,5 +1,5 @@
-/* ego.h - the whole estimator: one LMS scan in, the vehicle's ego-motion
- * since the previous scan out (paper section 2.2, with the additions of
+/* ego.h - the whole estimator: one range scan (ego_range.h) in, the
+ * vehicle's ego-motion since the previous scan out (paper section 2.2, with the additions of
  * docs/estimator.md).
  *
  * Per scan:
@@ -51,7 +51,6 @@
 #include "ego_scan.h"
 #include "ego_hist.h"
 #include "ego_itcp.h"
-#include "lms_decode.h"
 #include "ego_tfit.h"
 
 /* Output flags. */
@@ -169,12 +168,12 @@ void ego_profile_stage(ego_stage_t stage);
 typedef enum {
     EGO_OK = 0,
     EGO_ERR_ARG = -1,   /* NULL pointer */
-    EGO_ERR_SCAN = -2   /* the LMS scan has no usable layout: state unchanged */
+    EGO_ERR_SCAN = -2   /* the range scan fails ego_range_check: state unchanged */
 } ego_status_t;
 
 /* Processes one scan taken at time_us (a free-running microsecond clock;
  * wrap-around is fine). */
-ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const lms_scan_t *scan,
+ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                          uint32_t time_us, ego_output_t *out);
 
 /* The same with an optional motion prior for this scan (for example wheel
@@ -186,7 +185,7 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const l
  * prior cannot override a good match. When matching fails, the output is
  * the prior (flag EGO_FLAG_PREDICTED). */
 ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *params,
-                                    const lms_scan_t *scan, uint32_t time_us,
+                                    const ego_range_scan_t *scan, uint32_t time_us,
                                     const ego_pose_t *prior, ego_output_t *out);
 
 #endif /* EGO_H */

@@ -1,24 +1,30 @@
 /* ego_config.h - compile-time capacities of the estimator.
  *
- * Override from the build (target_compile_definitions) only upwards; the
- * static assertions keep an override from producing a too-small buffer.
+ * Override from the build (a compile definition on the estimator and
+ * everything that includes it, e.g. the CMake cache variable
+ * LMSEGO_MAX_BEAMS), never per file: the sizes of the caller's structs
+ * depend on them.
  */
 #ifndef EGO_CONFIG_H
 #define EGO_CONFIG_H
 
-#include "lms_proto.h"
-
-/* Points per scan: one per LMS value (401 at 100 deg / 0.25 deg). */
-#ifndef EGO_MAX_POINTS
-#define EGO_MAX_POINTS LMS_SCAN_MAX_VALUES
+/* Beams per scan: 720 holds a full turn at 0.5 deg (and every LMS 2xx
+ * layout, 401 values at most). RAM grows by about 50 bytes per beam
+ * (the input scan and the two prepared scans of ego_state_t), so a
+ * microcontroller build for one sensor sets its own maximum. */
+#ifndef EGO_MAX_BEAMS
+#define EGO_MAX_BEAMS 720u
 #endif
+
+/* Points of a prepared scan: at most one per beam. */
+#define EGO_MAX_POINTS EGO_MAX_BEAMS
 
 /* Largest tangent-fit half window n (the fit uses 2n + 1 points). */
 #ifndef EGO_TFIT_MAX_HALF_WINDOW
 #define EGO_TFIT_MAX_HALF_WINDOW 5u
 #endif
 
-_Static_assert(EGO_MAX_POINTS >= LMS_SCAN_MAX_VALUES, "a scan must fit");
-_Static_assert(EGO_MAX_POINTS <= 0xFFFFu, "point indices are 16 bits");
+_Static_assert(EGO_MAX_BEAMS >= 16u, "a scan needs some beams");
+_Static_assert(EGO_MAX_BEAMS <= 16384u, "16-bit indices, and ITCP's sums of 2^48 products below 2^62");
 
 #endif /* EGO_CONFIG_H */

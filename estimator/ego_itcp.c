@@ -379,7 +379,11 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
     }
     for (uint16_t j = q->j0, k = 0u; j > 0u && k < EGO_ITCP_MAX_WALK; k++) {
         j--;
-        if (fx_bam32_diff(l->bearing[j + 1u], m->ref) < below) {
+        /* The segment j -> j + 1 lies wholly below the cone. With j0 past
+         * the last point (the query's bearing beyond the scan), j is that
+         * point and has no segment: its own bearing decides. */
+        const uint16_t top = (j < end) ? (uint16_t)(j + 1u) : j;
+        if (fx_bam32_diff(l->bearing[top], m->ref) < below) {
             break;
         }
         if (!outside_square(l, j, (j < end) ? (uint16_t)(j + 1u) : j, &sq)) {

@@ -108,7 +108,7 @@ typedef enum {
 
 /* The closed form on its own (for tests and the coarse search): matched
  * pairs (x, y) -> (u, v) accumulated per group. |coordinates| < 2^24
- * (256 m) and at most EGO_MAX_POINTS pairs keep every sum below 2^57. */
+ * (256 m) and at most EGO_MAX_POINTS (<= 2^14) pairs keep every sum below 2^62. */
 typedef struct {
     int64_t n;
     int64_t sx, sy, su, sv;

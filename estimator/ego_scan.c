@@ -6,12 +6,10 @@
 
 #include "ego_fx_math.h"
 
-/* 0.01 deg in radians, Q2.30: round(pi / 18000 * 2^30). */
-#define CDEG_RAD_Q30 187403
-/* Centi-degrees in one turn, and a quarter turn (the scanner's 90-degree
- * beam is its x axis). */
-#define CDEG_PER_TURN 36000u
-#define CDEG_QUARTER 9000u
+/* Radians per binary-angle unit, 2 pi / 2^32, scaled by 2^60: a binary
+ * angle times this, shifted right by 30, is Q2.30 radians.
+ * round(pi / 2 * 2^30). */
+#define RAD_PER_BAM_Q60 1686629713
 
 void ego_prep_defaults(ego_prep_params_t *params)
 {
@@ -21,20 +19,13 @@ void ego_prep_defaults(ego_prep_params_t *params)
     params->jump_min = FX_Q16_16_C(0.30);
     params->jump_factor = 4u;
     params->occlusion_sin = 186453311; /* sin(10 deg), Q2.30 */
-    params->meas_mode = (uint8_t)LMS_MEAS_8M_FIELDS_DAZZLE;
-    params->beam_spacing_cdeg = 0u;
+    params->beam_spacing = 0u;
 }
 
-/* Binary angle of an angle in centi-degrees (0 .. 35999), rounded. */
-static fx_bam32_t bam_from_cdeg(uint32_t cdeg)
+/* A bearing step (less than half a turn) in radians, Q2.30. */
+static fx_q2_30_t rad_from_step(uint32_t step)
 {
-    return (fx_bam32_t)((((uint64_t)cdeg << 32) + CDEG_PER_TURN / 2u) / CDEG_PER_TURN);
-}
-
-/* Millimetres to Q16.16 metres, rounded. */
-static fx_q16_16_t q16_from_mm(uint32_t mm)
-{
-    return (fx_q16_16_t)((((uint64_t)mm << 16) + 500u) / 1000u);
+    return (fx_q2_30_t)fx_shr_round_s64((int64_t)step * RAD_PER_BAM_Q60, 30u);
 }
 
 static fx_q16_16_t abs_q16(fx_q16_16_t v)
@@ -77,58 +68,48 @@ static bool is_occlusion(const ego_prep_params_t *p, const sensor_point_t *a,
     return lhs < rhs;
 }
 
-ego_prep_status_t ego_scan_prepare(const lms_scan_t *lms, const ego_prep_params_t *params,
+ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                    ego_scan_t *scan)
 {
-    if (lms == NULL || params == NULL || scan == NULL) {
+    if (in == NULL || params == NULL || scan == NULL) {
         return EGO_PREP_ERR_ARG;
     }
     scan->count = 0u;
-    scan->values = 0u;
-    scan->origin_x = params->mount_x;
-    scan->origin_y = params->mount_y;
-    if (lms_meas_mode_bits(params->meas_mode) == 0u ||
-        params->meas_mode == (uint8_t)LMS_MEAS_REFLECTIVITY) {
-        return EGO_PREP_ERR_ARG;
-    }
-    lms_layout_t layout;
-    if (lms_scan_layout(lms, &layout) != LMS_OK || lms->count > EGO_MAX_POINTS) {
+    scan->beams = 0u;
+    scan->origin_x = in->origin_x;
+    scan->origin_y = in->origin_y;
+    if (!ego_range_check(in)) {
         return EGO_PREP_ERR_LAYOUT;
     }
-    scan->values = lms->count;
-    /* Every beam_step-th value; at most 8 (8 deg at 1-deg scans). */
-    uint16_t beam_step = (uint16_t)(params->beam_spacing_cdeg / layout.step_cdeg);
+    scan->beams = in->count;
+    /* Every beam_step-th beam, the spacing rounded to whole beams; at most
+     * 8 (8 deg at 1-deg scans). */
+    const uint32_t first_step = (in->count < 2u) ? 0u
+                                : (uint32_t)(ego_range_bearing(in, 1u) - ego_range_bearing(in, 0u));
+    uint32_t beam_step = (first_step == 0u) ? 1u
+                         : (uint32_t)(((uint64_t)params->beam_spacing + first_step / 2u) / first_step);
     beam_step = (beam_step < 1u) ? 1u : ((beam_step > 8u) ? 8u : beam_step);
-    const fx_q2_30_t step_rad = (fx_q2_30_t)(layout.step_cdeg * beam_step * CDEG_RAD_Q30);
 
     sensor_point_t prev = {0, 0, 0};
-    uint16_t prev_value = 0u;
-    for (uint16_t k = 0u; k < lms->count; k = (uint16_t)(k + beam_step)) {
-        lms_value_t v;
-        if (lms_value_decode(lms->values[k], params->meas_mode, lms->unit, &v) != LMS_OK ||
-            v.kind != LMS_VALUE_RANGE) {
+    uint16_t prev_beam = 0u;
+    fx_bam32_t prev_bearing = 0u;
+    for (uint32_t k = 0u; k < in->count; k += beam_step) {
+        const fx_q16_16_t r = in->range[k];
+        if (!in->valid[k] || r < params->min_range || r > params->max_range) {
             continue;
         }
-        const fx_q16_16_t r = q16_from_mm(v.distance_mm);
-        if (r < params->min_range || r > params->max_range) {
-            continue;
-        }
-        /* Beam direction in the vehicle frame: the LMS angle minus 90 deg
-         * (scanner x ahead, y left), turned by the mounting angle. The link
-         * tests use the point relative to the scanner; they only need
-         * lengths and cross products, which the turn does not change. */
-        const uint32_t lms_cdeg = (uint32_t)layout.start_cdeg + (uint32_t)k * layout.step_cdeg;
-        const fx_bam32_t beam =
-            bam_from_cdeg((lms_cdeg + CDEG_PER_TURN - CDEG_QUARTER) % CDEG_PER_TURN) +
-            params->mount_theta;
+        /* The link tests use the point relative to the sensor; they only
+         * need lengths and cross products, which the bearing's frame does
+         * not change. */
+        const fx_bam32_t beam = ego_range_bearing(in, (uint16_t)k);
         fx_q2_30_t s;
         fx_q2_30_t c;
         fx_sincos(beam, &s, &c);
         const sensor_point_t here = {fx_mul_q16_q30(r, c), fx_mul_q16_q30(r, s), r};
 
         const uint16_t i = scan->count;
-        scan->x[i] = fx_add_q16(params->mount_x, here.x);
-        scan->y[i] = fx_add_q16(params->mount_y, here.y);
+        scan->x[i] = fx_add_q16(in->origin_x, here.x);
+        scan->y[i] = fx_add_q16(in->origin_y, here.y);
         scan->bearing[i] = beam;
         scan->flags[i] = EGO_LINK_BREAK; /* until a next point links to it */
         scan->tangent[i] = 0u;
@@ -136,9 +117,9 @@ ego_prep_status_t ego_scan_prepare(const lms_scan_t *lms, const ego_prep_params_
 
         if (i > 0u) {
             uint8_t link = 0u;
-            if (k != prev_value + beam_step) {
+            if (k != prev_beam + beam_step) {
                 link |= EGO_LINK_GAP;
-            } else if (is_jump(params, prev.r, r, step_rad)) {
+            } else if (is_jump(params, prev.r, r, rad_from_step(beam - prev_bearing))) {
                 link |= EGO_LINK_JUMP;
             }
             if ((link & EGO_LINK_GAP) == 0u && is_occlusion(params, &prev, &here)) {
@@ -147,7 +128,8 @@ ego_prep_status_t ego_scan_prepare(const lms_scan_t *lms, const ego_prep_params_
             scan->flags[i - 1u] = (link != 0u) ? (uint8_t)(link | EGO_LINK_BREAK) : 0u;
         }
         prev = here;
-        prev_value = k;
+        prev_beam = (uint16_t)k;
+        prev_bearing = beam;
         scan->count++;
     }
     return EGO_PREP_OK;

@@ -1,11 +1,11 @@
-/* ego_scan.h - scan preparation: LMS values -> points in the vehicle frame.
+/* ego_scan.h - scan preparation: a range scan (ego_range.h) -> points in
+ * the vehicle frame.
  *
  * One ego_scan_t holds a whole prepared scan: Cartesian points (x forward,
  * y left, metres, Q16.16) in the vehicle frame, in scan order, with the
  * segment structure the later stages need, and (filled by ego_tfit.h) a robust
- * tangent per point. Special values (no return, dazzle, beyond max, ...)
- * and ranges outside [min_range, max_range] give no point; the gap they
- * leave breaks the segment.
+ * tangent per point. Invalid beams and ranges outside [min_range,
+ * max_range] give no point; the gap they leave breaks the segment.
  *
  * Segments: consecutive points belong to one segment unless
  *  - a value between them gave no point (a gap),
@@ -19,7 +19,7 @@
  * i and point i + 1.
  *
  * All memory is the caller's; no allocation; bounded loops (one pass over
- * the values). Pure function of its inputs.
+ * the beams). Pure function of its inputs.
  */
 #ifndef EGO_SCAN_H
 #define EGO_SCAN_H
@@ -29,11 +29,11 @@
 
 #include "ego_config.h"
 #include "ego_fx.h"
-#include "lms_decode.h"
+#include "ego_range.h"
 
 /* flags[i]: the link from point i to point i + 1. */
 #define EGO_LINK_BREAK 0x01u     /* not the same segment (any reason below) */
-#define EGO_LINK_GAP 0x02u       /* values without a point lie between them */
+#define EGO_LINK_GAP 0x02u       /* beams without a point lie between them */
 #define EGO_LINK_JUMP 0x04u      /* range jump */
 #define EGO_LINK_OCCLUSION 0x08u /* occlusion edge (sharp angle) */
 /* flags[i], set by tfit: point i has a robust tangent. */
@@ -41,8 +41,8 @@
 
 typedef struct {
     uint16_t count;                      /* points, <= EGO_MAX_POINTS */
-    uint16_t values;                     /* LMS values the scan had */
-    fx_q16_16_t origin_x;                /* the scanner in the vehicle frame */
+    uint16_t beams;                      /* beams the range scan had */
+    fx_q16_16_t origin_x;                /* the sensor in the vehicle frame */
     fx_q16_16_t origin_y;
     fx_q16_16_t x[EGO_MAX_POINTS];       /* vehicle frame, metres */
     fx_q16_16_t y[EGO_MAX_POINTS];
@@ -56,34 +56,29 @@ typedef struct {
                                             Q16.16 metres saturated to 65535 */
 } ego_scan_t;
 
-/* Mounting pose of the scanner on the vehicle, and the preparation
- * thresholds. ego_prep_defaults() gives the values of docs/estimator.md. */
+/* The preparation thresholds. ego_prep_defaults() gives the values of
+ * docs/estimator.md. */
 typedef struct {
-    fx_q16_16_t mount_x;         /* scanner origin in the vehicle frame, m */
-    fx_q16_16_t mount_y;
-    fx_bam32_t mount_theta;      /* scanner x axis (its 90-deg beam) in the
-                                    vehicle frame */
     fx_q16_16_t min_range;       /* shorter ranges give no point, m */
     fx_q16_16_t max_range;       /* longer ranges give no point, m */
     fx_q16_16_t jump_min;        /* range jump that always breaks, m */
     uint16_t jump_factor;        /* ... or jump_factor * r * dphi */
     fx_q2_30_t occlusion_sin;    /* sin of the occlusion angle */
-    uint8_t meas_mode;           /* lms_meas_mode_t of the scanner */
-    uint16_t beam_spacing_cdeg;  /* thin the beams to at least this spacing, in 0.01 deg
-                                    (0, the default: every value; the bounded profile
-                                    thins 0.5- and 0.25-deg scans to 1 deg) */
+    fx_bam32_t beam_spacing;     /* thin the beams to at least this spacing (0, the
+                                    default: every beam; the bounded profile thins
+                                    0.5- and 0.25-deg scans to 1 deg) */
 } ego_prep_params_t;
 
 void ego_prep_defaults(ego_prep_params_t *params);
 
 typedef enum {
     EGO_PREP_OK = 0,
-    EGO_PREP_ERR_ARG = -1,    /* NULL pointer or a bad measuring mode */
-    EGO_PREP_ERR_LAYOUT = -2  /* the value count is not an LMS variant */
+    EGO_PREP_ERR_ARG = -1,    /* NULL pointer */
+    EGO_PREP_ERR_LAYOUT = -2  /* the range scan fails ego_range_check */
 } ego_prep_status_t;
 
-/* Prepares scan from an LMS B0 scan. */
-ego_prep_status_t ego_scan_prepare(const lms_scan_t *lms, const ego_prep_params_t *params,
+/* Prepares scan from a range scan. */
+ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                    ego_scan_t *scan);
 
 /* True when points i and i + 1 (i + 1 < count) are in the same segment. */

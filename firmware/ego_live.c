@@ -138,6 +138,7 @@ static void publish(ego_live_t *live, const uint8_t *t, size_t len, uint32_t t_u
     memcpy(slot->bytes, t, n);
     slot->len = (uint16_t)n;
     slot->time_us = t_us;
+    slot->meas_mode = lms_session_info(&live->session)->meas_mode;
     slot->gap = live->gap_pending;
     live->gap_pending = false;
     const unsigned waiting = (unsigned)atomic_load(&live->middle);
@@ -169,6 +170,8 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
         if (live->deferred || !INLINE_ESTIMATOR) {
             publish(live, t, len, t_us);
         } else {
+            /* The values are decoded with the mode the scanner measures in. */
+            ego_loop_set_meas_mode(&live->loop, lms_session_info(&live->session)->meas_mode);
             ego_loop_telegram(&live->loop, &live->loop_hal, t, len, t_us);
         }
         if (live->max_scans != 0u && live->stats.scans == live->max_scans) {
@@ -273,6 +276,7 @@ bool ego_live_estimate(ego_live_t *live)
     if (slot->gap) {
         ego_loop_gap(&live->loop);
     }
+    ego_loop_set_meas_mode(&live->loop, slot->meas_mode);
     ego_loop_telegram(&live->loop, &live->loop_hal, slot->bytes, slot->len, slot->time_us);
     live->stats.scans_estimated++;
     return true;

@@ -67,7 +67,9 @@ typedef struct {
 
 typedef struct {
     lms_session_config_t session;
-    ego_loop_config_t loop;   /* use_clock is forced on: scan times from the session */
+    ego_loop_config_t loop;   /* use_clock is forced on: scan times from the session;
+                                 lms.meas_mode is the session's: the mode the scanner
+                                 was found in or set to */
     uint32_t max_scans;       /* stop cleanly after this many scans; 0: never */
     bool deferred;            /* false: ego_live_step estimates every scan as it comes;
                                  true: the newest scan waits for ego_live_estimate
@@ -120,6 +122,7 @@ typedef struct {
     uint8_t bytes[LMS_TELEGRAM_MAX];
     uint16_t len;
     bool gap;
+    uint8_t meas_mode;        /* the scanner's measuring mode (lms_session_info) */
     uint32_t time_us;
 } ego_live_slot_t;
 

@@ -1,3 +1,47 @@
+/* ego_lms.h - the SICK LMS 2xx adapter: a decoded B0 scan (lms_decode.h)
+ * as the estimator's generic range scan (ego_range.h).
+ *
+ * Everything LMS-specific the estimator used to know lives here: the value
+ * layout (which angles a count of values covers), the units, the measuring
+ * mode (which bits of a value are range and which flag special values: the
+ * session reports the scanner's real mode, lms_session_info), the LMS angle
+ * convention (0 deg on the scanner's right, 90 deg straight ahead) and the
+ * scanner's mounting pose on the vehicle. Special values (no return,
+ * dazzle, beyond max, ...) become invalid beams. Portable C11: no OS
+ * headers, no heap.
+ */
 #ifndef EGO_LMS_H
 #define EGO_LMS_H
-#endif
+
+#include <stdint.h>
+
+#include "ego_fx.h"
+#include "ego_range.h"
+#include "lms_decode.h"
+
+_Static_assert(EGO_MAX_BEAMS >= LMS_SCAN_MAX_VALUES, "every LMS layout must fit a range scan");
+
+typedef struct {
+    fx_q16_16_t mount_x;   /* the scanner's origin in the vehicle frame, m */
+    fx_q16_16_t mount_y;
+    fx_bam32_t mount_theta; /* the scanner's 90-deg beam in the vehicle frame */
+    uint8_t meas_mode;      /* lms_meas_mode_t the scanner measures in */
+} ego_lms_params_t;
+
+/* Mounted at the vehicle's origin looking ahead, measuring mode 00 (the
+ * scanner's factory setting). */
+void ego_lms_defaults(ego_lms_params_t *params);
+
+typedef enum {
+    EGO_LMS_OK = 0,
+    EGO_LMS_ERR_ARG = -1,   /* NULL pointer, or a measuring mode without ranges */
+    EGO_LMS_ERR_LAYOUT = -2 /* the value count is not an LMS variant */
+} ego_lms_status_t;
+
+/* Fills out from lms: one beam per value, bearing per beam (each LMS angle
+ * rounded to a binary angle on its own, then turned by mount_theta), range
+ * rounded to Q16.16 metres. On an error out->count is 0. */
+ego_lms_status_t ego_lms_to_range(const lms_scan_t *lms, const ego_lms_params_t *params,
+                                  ego_range_scan_t *out);
+
+#endif /* EGO_LMS_H */

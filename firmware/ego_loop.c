@@ -11,6 +11,7 @@ void ego_loop_defaults(ego_loop_config_t *config)
 {
     memset(config, 0, sizeof *config);
     ego_defaults(&config->ego);
+    ego_lms_defaults(&config->lms);
 }
 
 void ego_loop_init(ego_loop_t *loop, const ego_loop_config_t *config)
@@ -62,20 +63,6 @@ static int64_t micro_from_q16(int64_t v)
 static int64_t microrad_from_bam(fx_bam32_t a)
 {
     return fx_shr_round_s64((int64_t)fx_bam32_diff(a, 0u) * 6283185, 32u);
-}
-
-/* Scan period of the LMS mode with this many values (mode 24). */
-static uint32_t mode_period_us(uint16_t count)
-{
-    switch (count) {
-    case 361u:
-    case 201u:
-        return 26667u; /* two mirror turns at 75 Hz */
-    case 401u:
-        return 53333u; /* four */
-    default:
-        return 13333u; /* one: 1-degree scans and partial scans */
-    }
 }
 
 typedef struct {
@@ -131,7 +118,7 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
 {
     const uint32_t k = loop->stats.scans++;
     if (loop->period_us == 0u) {
-        loop->period_us = mode_period_us(loop->scan.count);
+        loop->period_us = lms_scan_period_us(loop->scan.count);
     }
     if (k == 0u) {
         loop->first_time_us = arrival_us;
@@ -142,7 +129,8 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
     ego_pose_t prior;
     const bool has_prior = k > 0u && loop->config.prior != NULL &&
                            loop->config.prior(loop->config.prior_ctx, k, &prior);
-    if (ego_process_with_prior(&loop->ego, &loop->config.ego, &loop->scan, t_us,
+    if (ego_lms_to_range(&loop->scan, &loop->config.lms, &loop->range) != EGO_LMS_OK ||
+        ego_process_with_prior(&loop->ego, &loop->config.ego, &loop->range, t_us,
                                has_prior ? &prior : NULL, &out) != EGO_OK) {
         loop->stats.decode_errors++;
         return;
@@ -186,6 +174,11 @@ void ego_loop_telegram(ego_loop_t *loop, const ego_hal_t *hal, const uint8_t *te
 void ego_loop_gap(ego_loop_t *loop)
 {
     ego_reset(&loop->ego);
+}
+
+void ego_loop_set_meas_mode(ego_loop_t *loop, uint8_t meas_mode)
+{
+    loop->config.lms.meas_mode = meas_mode;
 }
 
 static void on_event(ego_loop_t *loop, const ego_hal_t *hal, lms_framer_event_t ev,

@@ -28,6 +28,7 @@
 #include <stdint.h>
 
 #include "ego.h"
+#include "ego_lms.h"
 #include "lms_decode.h"
 #include "lms_framer.h"
 
@@ -59,6 +60,7 @@ typedef bool (*ego_loop_prior_fn)(void *ctx, uint32_t scan, ego_pose_t *prior);
 
 typedef struct {
     ego_params_t ego;
+    ego_lms_params_t lms;          /* mounting pose, measuring mode (ego_lms.h) */
     ego_loop_prior_fn prior;       /* NULL: none */
     void *prior_ctx;
     ego_loop_observer_fn observer; /* NULL: none */
@@ -76,7 +78,8 @@ void ego_loop_defaults(ego_loop_config_t *config);
 typedef struct {
     uint32_t bytes;          /* read from the HAL */
     uint32_t scans;          /* B0 telegrams decoded */
-    uint32_t decode_errors;  /* B0 telegrams the decoder or estimator refused */
+    uint32_t decode_errors;  /* B0 telegrams the decoder, the adapter or the estimator
+                                refused */
     uint32_t lines;          /* motion lines (or frames) written */
     uint32_t predicted;      /* of which carried a prediction, not a match */
     uint32_t restarts;       /* EGO_FLAG_FIRST after the first scan */
@@ -87,6 +90,7 @@ typedef struct {
     ego_loop_config_t config;
     lms_framer_t framer;
     lms_scan_t scan;
+    ego_range_scan_t range;  /* scan, as the estimator's input */
     ego_state_t ego;
     uint32_t period_us;
     uint32_t first_time_us;
@@ -119,6 +123,11 @@ void ego_loop_telegram(ego_loop_t *loop, const ego_hal_t *hal, const uint8_t *te
 /* The line was lost and brought up again: the next scan starts over (no
  * motion is matched across the gap; its line carries EGO_FLAG_FIRST). */
 void ego_loop_gap(ego_loop_t *loop);
+
+/* The scanner measures in this mode from now on (lms_meas_mode_t): the
+ * live core passes the mode the session found or set, so the values are
+ * decoded with the scanner's real masks. */
+void ego_loop_set_meas_mode(ego_loop_t *loop, uint8_t meas_mode);
 
 const ego_loop_stats_t *ego_loop_stats(const ego_loop_t *loop);
 

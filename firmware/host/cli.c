@@ -156,7 +156,7 @@ int cli_parse_double(const char *text, double *out)
 }
 
 /* "X,Y,THETA_DEG" -> the mounting pose. */
-int cli_parse_mount(const char *text, ego_prep_params_t *prep)
+int cli_parse_mount(const char *text, ego_lms_params_t *lms)
 {
     char buf[96];
     if (strlen(text) >= sizeof buf) {
@@ -183,10 +183,10 @@ int cli_parse_mount(const char *text, ego_prep_params_t *prep)
         cli_parse_double(parts[2], &deg) != 0 || fabs(x) > 100.0 || fabs(y) > 100.0) {
         return -1;
     }
-    prep->mount_x = (fx_q16_16_t)lround(x * 65536.0);
-    prep->mount_y = (fx_q16_16_t)lround(y * 65536.0);
+    lms->mount_x = (fx_q16_16_t)lround(x * 65536.0);
+    lms->mount_y = (fx_q16_16_t)lround(y * 65536.0);
     double turns = deg / 360.0;
     turns -= floor(turns);
-    prep->mount_theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
+    lms->mount_theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
     return 0;
 }

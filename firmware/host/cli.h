@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "ego.h"
+#include "ego_lms.h"
 
 /* Exit codes of lmsego and of every subcommand. */
 #define CLI_EXIT_OK 0      /* success */
@@ -72,6 +73,6 @@ int cli_parse_double(const char *text, double *out);
 
 /* --mount "X,Y,THETA_DEG" (m, m, deg; |X|, |Y| <= 100) -> the mounting
  * pose of the scanner on the vehicle. Returns 0 on success. */
-int cli_parse_mount(const char *text, ego_prep_params_t *prep);
+int cli_parse_mount(const char *text, ego_lms_params_t *lms);
 
 #endif /* LMSEGO_CLI_H */

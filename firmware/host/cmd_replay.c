@@ -272,7 +272,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             config.period_us = (uint32_t)lround(s * 1e6);
             i++;
         } else if (strcmp(arg, "--mount") == 0) {
-            if (value == NULL || cli_parse_mount(value, &config.ego.prep) != 0) {
+            if (value == NULL || cli_parse_mount(value, &config.lms) != 0) {
                 return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
             }
             i++;
@@ -317,7 +317,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             }
             i++;
         } else if (strcmp(arg, "--mode") == 0) {
-            if (value == NULL || cli_parse_meas_mode(value, &config.ego.prep.meas_mode) != 0) {
+            if (value == NULL || cli_parse_meas_mode(value, &config.lms.meas_mode) != 0) {
                 return cli_usage_error(self, "invalid --mode", value, "expected 00..06 or 0F");
             }
             i++;

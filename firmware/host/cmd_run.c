@@ -161,7 +161,7 @@ static int parse_options(const cli_command_t *self, int argc, char **argv, bool 
             if (value == NULL || cli_parse_meas_mode(value, &o->session.meas_mode) != 0) {
                 return cli_usage_error(self, "invalid --mode", value, "expected 00..06 or 0F");
             }
-            o->loop.ego.prep.meas_mode = o->session.meas_mode;
+            o->loop.lms.meas_mode = o->session.meas_mode;
         } else if (strcmp(arg, "--partial") == 0) {
             o->session.partial = true;
             continue;
@@ -182,7 +182,7 @@ static int parse_options(const cli_command_t *self, int argc, char **argv, bool 
                 return cli_usage_error(self, "invalid --scans", value, "1..1000000000");
             }
         } else if (!record && strcmp(arg, "--mount") == 0) {
-            if (value == NULL || cli_parse_mount(value, &o->loop.ego.prep) != 0) {
+            if (value == NULL || cli_parse_mount(value, &o->loop.lms) != 0) {
                 return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
             }
         } else if (record && strcmp(arg, "-o") == 0 && value != NULL) {

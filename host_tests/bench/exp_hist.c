@@ -20,6 +20,7 @@
 #include <time.h>
 
 #include "ego.h"
+#include "ego_lms.h"
 #include "scan_file.h"
 
 #define MAX_SCANS 2000u
@@ -96,11 +97,15 @@ int main(int argc, char **argv)
     load_truth(argv[2]);
     static ego_params_t params;
     ego_defaults(&params);
+    ego_lms_params_t lms;
+    ego_lms_defaults(&lms);
+    static ego_range_scan_t range;
     static const char *const names[KINDS] = {"AH", "LAH", "HAH", "HAH+AOI", "HTAH"};
     static const ego_hist_kind_t kinds[KINDS] = {EGO_HIST_AH, EGO_HIST_LAH, EGO_HIST_HAH, EGO_HIST_HAH, EGO_HIST_HTAH};
     for (size_t k = 0u; k < n; k++) {
         const unsigned cur = (unsigned)(k % 2u);
-        if (ego_scan_prepare(&scans[k], &params.prep, &prepared[cur]) != EGO_PREP_OK) {
+        if (ego_lms_to_range(&scans[k], &lms, &range) != EGO_LMS_OK ||
+            ego_scan_prepare(&range, &params.prep, &prepared[cur]) != EGO_PREP_OK) {
             (void)fprintf(stderr, "exp_hist: scan %zu has no layout\n", k);
             return 1;
         }

@@ -1,6 +1,8 @@
 /* synth_scan.c - see synth_scan.h. */
 #include "synth_scan.h"
 
+#include "ego_lms.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -57,4 +59,12 @@ void synth_scan(const synth_wall_t *walls, unsigned nwalls, double x, double y, 
         const long v = (best > 0.0) ? lround(best * per_unit) : 0x1FF7;
         out->values[k] = (uint16_t)((v > 0x1FF6) ? 0x1FF7 : v);
     }
+}
+
+const ego_range_scan_t *synth_range(const lms_scan_t *lms)
+{
+    static ego_range_scan_t range;
+    ego_lms_params_t params;
+    ego_lms_defaults(&params);
+    return (ego_lms_to_range(lms, &params, &range) == EGO_LMS_OK) ? &range : NULL;
 }

@@ -4,6 +4,7 @@
 #ifndef SYNTH_SCAN_H
 #define SYNTH_SCAN_H
 
+#include "ego_range.h"
 #include "lms_decode.h"
 
 typedef struct {
@@ -15,6 +16,11 @@ typedef struct {
  * "beyond max"; cm at 81.82 m). Beams that hit nothing: beyond max. */
 void synth_scan(const synth_wall_t *walls, unsigned nwalls, double x, double y, double heading,
                 unsigned count, lms_unit_t unit, lms_scan_t *out);
+
+/* lms through the LMS adapter with its defaults (firmware/ego_lms.h: mode
+ * 00, no mount offset), into a static range scan that the next call
+ * overwrites; NULL when the adapter refuses it. */
+const ego_range_scan_t *synth_range(const lms_scan_t *lms);
 
 /* A room with a few angled features: 14 walls, about 16 x 10 m. */
 extern const synth_wall_t synth_room[];

@@ -42,7 +42,7 @@ static void prepared(double x, double y, double heading_deg, ego_scan_t *scan)
     room_lms(x, y, heading_deg);
     ego_prep_params_t prep;
     ego_prep_defaults(&prep);
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, &prep, scan));
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(synth_range(&g_lms), &prep, scan));
 }
 
 static void test_coarse_search_finds_a_large_translation(void)
@@ -105,7 +105,7 @@ static ego_output_t step(double x, double y, double heading_deg, uint32_t t_us)
 {
     room_lms(x, y, heading_deg);
     ego_output_t out;
-    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_lms, t_us, &out));
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms), t_us, &out));
     return out;
 }
 
@@ -185,14 +185,21 @@ static void test_ego_gap_and_sparse_scans(void)
     for (unsigned k = 10u; k < g_lms.count; k++) {
         g_lms.values[k] = 0x1FFFu;
     }
-    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_lms, 2080001u, &out));
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms), 2080001u, &out));
     TEST_ASSERT_TRUE((out.flags & EGO_FLAG_TOO_FEW_POINTS) != 0u);
     TEST_ASSERT_TRUE((out.flags & EGO_FLAG_PREDICTED) != 0u);
     TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(out.pose.x) - 0.1) < 0.005);
-    /* A scan without a layout leaves the state alone. */
-    g_lms.count = 180u;
-    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &g_lms, 2100000u, &out));
-    TEST_ASSERT_EQUAL_INT(EGO_ERR_ARG, ego_process(NULL, &g_params, &g_lms, 0u, &out));
+    /* A range scan that fails ego_range_check (bearings not increasing)
+     * leaves the state alone: the next good scan still matches the last. */
+    static ego_range_scan_t bad;
+    bad = *synth_range(&g_lms);
+    bad.bearing[7] = bad.bearing[6];
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 2100000u, &out));
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_ARG, ego_process(NULL, &g_params, &bad, 0u, &out));
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_ARG, ego_process(&g_state, &g_params, NULL, 0u, &out));
+    out = step(0.5, 0.0, 0.0, 2106667u);
+    TEST_ASSERT_EQUAL_HEX16(0u, out.flags & EGO_FLAG_FIRST);
+    TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(out.pose.x) - 0.1) < 0.005);
 }
 
 int main(void)

@@ -64,6 +64,9 @@ typedef struct {
     bool junk_on_switch;
     uint32_t junk_sent;
     lms_framer_t side;           /* the rig's own view of the scanner's bytes */
+    uint8_t scene_mode;          /* measuring mode of the scene's values: 00 (cm) or
+                                    06 (mm, 15 bits: the room's far walls need more than
+                                    mode 00's 13) */
     char out[OUT_MAX];
     size_t out_len;
     bool out_overflow;
@@ -89,6 +92,14 @@ static const telegram_t *scene_scan(uint32_t i)
         /* 3 cm and 0.25 deg per scan: an easy drive for the estimator. */
         synth_scan(synth_room, synth_room_walls, 0.03 * k, 0.004 * k, 0.25 * k * PI_D / 180.0,
                    181u, LMS_UNIT_CM, &scan);
+        if (R.scene_mode == LMS_MEAS_32M_FIELD_A) {
+            /* The same ranges in mm, 15 bits; the top codes moved up. */
+            for (unsigned b = 0u; b < scan.count; b++) {
+                const unsigned v = scan.values[b] & 0x1FFFu;
+                scan.values[b] = (uint16_t)(v >= 0x1FF7u ? 0x7FFFu - (0x1FFFu - v) : v * 10u);
+            }
+            scan.unit = LMS_UNIT_MM;
+        }
         telegram_t *t = &R.scene[R.scene_built];
         TEST_ASSERT_EQUAL_INT(LMS_OK, lms_encode_scan(t->bytes, sizeof t->bytes, 0x80u, &scan,
                                                       &t->len));
@@ -312,6 +323,7 @@ static const char *replay(uint32_t from, uint32_t to)
     P.bytes = replay_stream;
     P.len = len;
     ego_loop_defaults(&config);
+    config.lms.meas_mode = R.scene_mode; /* `lmsego replay --mode` */
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {replay_read, replay_write, replay_now, &P};
     for (uint32_t guard = 0u; guard < 100000u; guard++) {
@@ -409,6 +421,39 @@ static void test_ego_live_brings_up_streams_and_stops(void)
     TEST_ASSERT_EQUAL_INT(LMS_BAUD_9600, R.host_baud);
     TEST_ASSERT_TRUE(R.baud_sets >= 3u); /* probe at 500k, 9600, switch up, back down */
     /* The same bytes as `lmsego replay` of the scans it got. */
+    TEST_ASSERT_EQUAL_STRING(replay(0u, N), R.out);
+}
+
+/* A scanner left in measuring mode 06 (15-bit mm ranges, a field flag in
+ * bit 15) and mm units, both kept by the session's default policy: the
+ * core decodes the values with the mode the session found, so the CSV is
+ * that of `lmsego replay --mode 06`. Decoded with mode 00's 13-bit mask,
+ * every range beyond 8.19 m would come out wrong. */
+static void test_ego_live_decodes_in_the_scanners_measuring_mode(void)
+{
+    enum { N = 30 };
+    lms_sim_config_t sc;
+    ego_live_config_t lc;
+    config_defaults(&sc, &lc);
+    sc.meas_mode = LMS_MEAS_32M_FIELD_A;
+    sc.unit = LMS_UNIT_MM;
+    lc.max_scans = N;
+    rig_init(&sc, &lc);
+    R.scene_mode = LMS_MEAS_32M_FIELD_A;
+    rig_run(R.now + 10u * SEC, 0u);
+    TEST_ASSERT_EQUAL_INT(EGO_LIVE_STOPPED, ego_live_status(&R.live));
+    TEST_ASSERT_EQUAL_HEX8(LMS_MEAS_32M_FIELD_A,
+                           lms_session_info(ego_live_session(&R.live))->meas_mode);
+    TEST_ASSERT_EQUAL_UINT32(N - 1u, ego_loop_stats(ego_live_loop(&R.live))->lines);
+    /* The scene does reach beyond mode 00's range. */
+    const telegram_t *t = scene_scan(0u);
+    static lms_scan_t first;
+    TEST_ASSERT_EQUAL_INT(LMS_OK, lms_decode_scan(t->bytes, t->len, &first));
+    unsigned far = 0u;
+    for (unsigned b = 0u; b < first.count; b++) {
+        far += ((first.values[b] & 0x7FFFu) > 8191u && (first.values[b] & 0x7FFFu) < 0x7FF7u) ? 1u : 0u;
+    }
+    TEST_ASSERT_TRUE(far > 20u);
     TEST_ASSERT_EQUAL_STRING(replay(0u, N), R.out);
 }
 
@@ -856,6 +901,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_ego_live_brings_up_streams_and_stops);
+    RUN_TEST(test_ego_live_decodes_in_the_scanners_measuring_mode);
     RUN_TEST(test_ego_live_recovers_after_power_cycle);
     RUN_TEST(test_ego_live_recovers_after_power_cycle_late_loop);
     RUN_TEST(test_ego_live_late_main_loop);

@@ -1,24 +1,30 @@
-/* test_ego_scan.c - scan preparation (estimator/ego_scan.c): polar LMS
- * values to vehicle-frame points, against double-precision geometry, and
- * the segment structure on constructed scans. */
+/* test_ego_scan.c - the LMS adapter (firmware/ego_lms.c) and scan
+ * preparation (estimator/ego_scan.c) together: polar LMS values to
+ * vehicle-frame points, against double-precision geometry, and the segment
+ * structure on constructed scans. The generic range input on its own:
+ * test_ego_range.c. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "ego_lms.h"
 #include "ego_scan.h"
 #include "fx_host.h"
 #include "unity.h"
 
+static lms_scan_t g_lms;
+static ego_lms_params_t g_lmsp; /* mount and measuring mode: defaults before each test */
+static ego_range_scan_t g_range;
+static ego_scan_t g_scan;
+
 void setUp(void)
 {
+    ego_lms_defaults(&g_lmsp);
 }
 
 void tearDown(void)
 {
 }
-
-static lms_scan_t g_lms;
-static ego_scan_t g_scan;
 
 /* Raw LMS word of a range in the scan's unit (mode 00, 13 bits). */
 static uint16_t word_of(double metres, lms_unit_t unit)
@@ -69,7 +75,8 @@ static void make_wall_scan(unsigned count, lms_unit_t unit, double d)
 
 static void prepare(const ego_prep_params_t *p)
 {
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, p, &g_scan));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_OK, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_range, p, &g_scan));
 }
 
 /* Every point against the exact polar -> Cartesian of its integer range. */
@@ -110,7 +117,7 @@ static void test_ego_scan_wall_in_every_layout(void)
     for (unsigned c = 0u; c < 5u; c++) {
         make_wall_scan(counts[c], LMS_UNIT_MM, 3.0);
         prepare(&p);
-        TEST_ASSERT_EQUAL_UINT16(counts[c], g_scan.values);
+        TEST_ASSERT_EQUAL_UINT16(counts[c], g_scan.beams);
         TEST_ASSERT_TRUE(g_scan.count > 50u);
         check_points_against_double(&p, 0.0, 0.0, 0.0);
         for (uint16_t i = 0u; i < g_scan.count; i++) {
@@ -132,10 +139,10 @@ static void test_ego_scan_beam_spacing_thins_fine_scans(void)
     for (unsigned c = 0u; c < 3u; c++) {
         static ego_scan_t full;
         make_wall_scan(counts[c], LMS_UNIT_MM, 3.0);
-        p.beam_spacing_cdeg = 0u;
+        p.beam_spacing = 0u;
         prepare(&p);
         full = g_scan;
-        p.beam_spacing_cdeg = 100u;
+        p.beam_spacing = FX_BAM32_DEG_C(1.0);
         prepare(&p);
         /* The wall is seen in a contiguous run of beams: every steps[c]-th
          * of them is kept. */
@@ -162,9 +169,9 @@ static void test_ego_scan_centimetres_and_mount(void)
 {
     ego_prep_params_t p;
     ego_prep_defaults(&p);
-    p.mount_x = FX_Q16_16_C(1.5);
-    p.mount_y = FX_Q16_16_C(-0.25);
-    p.mount_theta = FX_BAM32_DEG_C(30.0);
+    g_lmsp.mount_x = FX_Q16_16_C(1.5);
+    g_lmsp.mount_y = FX_Q16_16_C(-0.25);
+    g_lmsp.mount_theta = FX_BAM32_DEG_C(30.0);
     make_wall_scan(361u, LMS_UNIT_CM, 20.0);
     prepare(&p);
     check_points_against_double(&p, 1.5, -0.25, 30.0 * FX_HOST_PI / 180.0);
@@ -272,16 +279,20 @@ static void test_ego_scan_range_limits_and_errors(void)
     check_points_against_double(&p, 0.0, 0.0, 0.0);
 
     TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(NULL, &p, &g_scan));
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, NULL, &g_scan));
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, &p, NULL));
-    p.meas_mode = 0x3Fu; /* reflectivity: not ranges */
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, &p, &g_scan));
-    p.meas_mode = 0x07u;
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_lms, &p, &g_scan));
-    ego_prep_defaults(&p);
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_range, NULL, &g_scan));
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_range, &p, NULL));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(NULL, &g_lmsp, &g_range));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, NULL, &g_range));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, &g_lmsp, NULL));
+    g_lmsp.meas_mode = 0x3Fu; /* reflectivity: not ranges */
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    TEST_ASSERT_EQUAL_UINT16(0u, g_range.count);
+    g_lmsp.meas_mode = 0x07u;
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    ego_lms_defaults(&g_lmsp);
     g_lms.count = 180u; /* no LMS variant */
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_LAYOUT, ego_scan_prepare(&g_lms, &p, &g_scan));
-    TEST_ASSERT_EQUAL_UINT16(0u, g_scan.count);
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_LAYOUT, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    TEST_ASSERT_EQUAL_UINT16(0u, g_range.count);
 }
 
 int main(void)

@@ -39,7 +39,7 @@ static void room_scan(double x, double y, double heading_deg, unsigned count, eg
                LMS_UNIT_CM, &g_lms);
     ego_prep_params_t prep;
     ego_prep_defaults(&prep);
-    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_lms, &prep, scan));
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(synth_range(&g_lms), &prep, scan));
     ego_tfit_params_t fit;
     ego_tfit_defaults(&fit);
     ego_tfit_fit_scan(scan, &fit);
