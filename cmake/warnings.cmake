@@ -1,11 +1,19 @@
-# Strict warnings as errors for every target of the project (gcc and clang).
-# Applied through an interface library so third-party code (a real Unity)
-# is not forced onto our flags.
-add_library(lmsego_warnings INTERFACE)
-target_compile_options(lmsego_warnings INTERFACE
-    -Wall -Wextra -Wpedantic -Werror
+# Strict warnings as errors (LMSEGO_WERROR, on when lmsego is the top-level
+# project) for every target of the project (gcc and clang).
+# Applied through an interface library linked PRIVATE, so third-party code
+# (a real Unity) and projects that use lmsego are not forced onto our flags.
+# A static library's PRIVATE links still appear in its exported link
+# interface ($<LINK_ONLY:lmsego_warnings>), so cmake/install.cmake installs
+# this target too: its flags are BUILD_INTERFACE only, installed it is empty.
+set(LMSEGO_WARNING_FLAGS
+    -Wall -Wextra -Wpedantic
     -Wconversion -Wsign-conversion -Wshadow
     -Wmissing-prototypes -Wstrict-prototypes -Wold-style-definition
     -Wcast-qual -Wpointer-arith -Wundef -Wvla -Wwrite-strings
     -Wformat=2
 )
+if(LMSEGO_WERROR)
+    list(APPEND LMSEGO_WARNING_FLAGS -Werror)
+endif()
+add_library(lmsego_warnings INTERFACE)
+target_compile_options(lmsego_warnings INTERFACE "$<BUILD_INTERFACE:${LMSEGO_WARNING_FLAGS}>")

@@ -4,6 +4,9 @@
  * A subcommand is one row in `commands` below plus its cmd_*.c file;
  * nothing else needs to change to add one.
  *
+ * `lmsego --version` prints "lmsego <version>" (lmsego_version.h,
+ * generated from the CMake project's version).
+ *
  * Exit status: 0 ok, 1 runtime error (unreadable input, write error),
  * 2 usage error (no subcommand, unknown subcommand or option).
  */
@@ -12,6 +15,7 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "lmsego_version.h"
 
 static const cli_command_t commands[] = {
     {"stats", "FILE", "count telegrams, scans and framing errors of a recorded stream", cmd_stats},
@@ -47,7 +51,7 @@ static const cli_command_t commands[] = {
 static void print_usage(void)
 {
     (void)puts("usage: lmsego <command> [options] FILE\n"
-               "       lmsego --help | <command> --help\n"
+               "       lmsego --help | --version | <command> --help\n"
                "\n"
                "Turns the telegram stream of a SICK LMS 2xx into ego-motion: from a\n"
                "recording (the raw bytes the scanner sent, or an `lmsego record` file;\n"
@@ -61,6 +65,7 @@ static void print_usage(void)
     (void)puts("\n"
                "options:\n"
                "  -h, --help               show this help and exit\n"
+               "      --version            print the version and exit\n"
                "\n"
                "exit status: 0 ok, 1 runtime error (e.g. unreadable file), 2 usage error");
 }
@@ -83,6 +88,10 @@ int main(int argc, char **argv)
     const char *first = argv[1];
     if (cli_is_help(first)) {
         print_usage();
+        return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
+    }
+    if (strcmp(first, "--version") == 0) {
+        (void)puts("lmsego " LMSEGO_VERSION);
         return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
     }
     if (first[0] == '-') {
