@@ -20,3 +20,15 @@ add_test(NAME portable_cortex_m3
         -DOUT_DIR=${CMAKE_BINARY_DIR}/portable_cortex_m3
         -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
 set_tests_properties(portable_cortex_m3 PROPERTIES LABELS "portability")
+
+# The estimator on its own: its sources compile with nothing on the include
+# path but estimator/ (and the cross compiler's C headers), so it needs no
+# header of the driver or the firmware: any 2-D range sensor can feed it.
+add_test(NAME estimator_standalone
+    COMMAND ${CMAKE_COMMAND}
+        -DCC=${LMSEGO_ARM_GCC}
+        "-DSOURCES=${LMS_ESTIMATOR_SOURCES_ABS}"
+        "-DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/estimator"
+        -DOUT_DIR=${CMAKE_BINARY_DIR}/estimator_standalone
+        -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
+set_tests_properties(estimator_standalone PROPERTIES LABELS "portability")
