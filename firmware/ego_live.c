@@ -235,6 +235,8 @@ static void service(ego_live_t *live)
     }
     /* Only what is waiting now: a babbling line cannot starve the timers. */
     size_t budget = uart_ring_count(live->rx);
+    bool fed = false;
+    uint32_t last_arrival_us = 0u;
     while (budget > 0u && live->status == EGO_LIVE_RUNNING) {
         uint32_t arrival_us = 0u;
         const size_t want = budget < sizeof live->chunk ? budget : sizeof live->chunk;
@@ -243,11 +245,18 @@ static void service(ego_live_t *live)
             break; /* discarded at a rate change */
         }
         budget -= n;
+        fed = true;
+        last_arrival_us = arrival_us;
         feed_chunk(live, n, arrival_us);
     }
     /* The timers, after the bytes: a reply that came before its deadline
-     * is never taken for a timeout because the loop was late. */
-    const uint32_t now = live->hal.now_us(live->hal.ctx);
+     * is never taken for a timeout because the loop was late. And when
+     * bytes were fed, at the arrival of the last of them: the line is
+     * known up to there, and no further (an inline estimator may have
+     * spent a while on the scans, and what came meanwhile waits in the
+     * ring or the UART for the next step). Silence is judged by a step
+     * that found nothing waiting, at most one step later. */
+    const uint32_t now = fed ? last_arrival_us : live->hal.now_us(live->hal.ctx);
     for (uint32_t guard = 0u; guard < 16u && live->status == EGO_LIVE_RUNNING; guard++) {
         const lms_session_event_t ev = lms_session_poll(&live->session, now);
         if (ev == LMS_SESSION_EV_NONE) {
@@ -299,6 +308,15 @@ uint32_t ego_live_wait_us(const ego_live_t *live)
         return 0u;
     }
     return lms_session_wait_us(&live->session, live->hal.now_us(live->hal.ctx));
+}
+
+void ego_live_link_lost(ego_live_t *live)
+{
+    if (live->status != EGO_LIVE_RUNNING) {
+        return;
+    }
+    live->stats.bytes_discarded += (uint32_t)uart_ring_discard(live->rx);
+    lms_session_link_lost(&live->session, live->hal.now_us(live->hal.ctx));
 }
 
 void ego_live_stop(ego_live_t *live)

@@ -195,6 +195,12 @@ bool ego_live_estimate(ego_live_t *live);
  * comes: 0 when bytes wait or something is due. */
 uint32_t ego_live_wait_us(const ego_live_t *live);
 
+/* The platform lost the line (a hang-up, a UART that had to be reset): the
+ * session restarts now, and the waiting bytes, from the old line, are
+ * dropped. Main loop only, like ego_live_step (in deferred mode: where
+ * ego_live_service runs, with that interrupt masked). */
+void ego_live_link_lost(ego_live_t *live);
+
 /* Asks for a clean stop (stream off, scanner back at 9600 baud with the
  * session's restore_9600); the status becomes STOPPED when it is done. */
 void ego_live_stop(ego_live_t *live);

@@ -24,9 +24,10 @@
  * closes the port and reopens it every 200 ms until it comes back.
  * SIGINT / SIGTERM (or --scans N reached) stop cleanly: stream off (20 25)
  * and the scanner back at 9600 baud, where the next start finds it fast.
- * After --scans N the scans still queued for the estimator get their
- * lines; after a signal they are dropped (counted on stderr), so an
- * interrupt never waits for a backlog.
+ * Both run the firmware's live core (firmware/ego_live.h) with the host as
+ * its board: the bytes read go into the same receive ring a UART interrupt
+ * fills on a target, and the same service and estimate steps run; see
+ * live() below.
  * Exit status: 0 after a clean stop, 1 when the port cannot be used or the
  * scanner refuses a setting, 2 for a bad command line. The last stderr line
  * holds the counters.
@@ -71,16 +72,6 @@ static void io_set_baud(void *ctx, lms_baud_t baud)
     }
 }
 
-/* The HAL's read: the loop never reads here (the session owns the line);
- * buf cannot be const, the HAL type is shared with ego_loop_step. */
-static int32_t hal_read_none(void *ctx, uint8_t *buf, size_t cap) // NOLINT(readability-non-const-parameter)
-{
-    (void)ctx;
-    (void)buf;
-    (void)cap;
-    return 0; /* the session reads the line, not the loop */
-}
-
 static void hal_write(void *ctx, const uint8_t *buf, size_t len)
 {
     live_io_t *io = ctx;
@@ -89,6 +80,8 @@ static void hal_write(void *ctx, const uint8_t *buf, size_t len)
     }
 }
 
+/* The session's writes and rate changes go to the port (io_write,
+ * io_set_baud), the motion lines to stdout. */
 static uint32_t hal_now_us(void *ctx)
 {
     const live_io_t *io = ctx;
@@ -235,79 +228,54 @@ static const char *cause_text(lms_session_cause_t c)
     }
 }
 
-/* Scans waiting for the estimator. The line is read, and the session fed,
- * between any two scans: a hard scan (the estimator needs up to hundreds
- * of ms for some) then only delays the scans behind it, while the bytes
- * still leave the kernel's buffer (64 KB, about 1.3 s at 500 kbaud) in
- * time. A restart is queued as a mark, so it reaches the estimator in
- * order. 4096 entries hold 55 s of 75 Hz scans; a scan that finds the
- * queue full is dropped and counted. */
-#define SCAN_QUEUE 4096u
-
+/* What the live core did since the last look, told on stderr: the
+ * session's events are the core's, so `run` reads them off its counters. */
 typedef struct {
-    uint8_t bytes[LMS_TELEGRAM_MAX];
-    uint16_t len;          /* 0: a restart mark */
-    uint32_t time_us;      /* the scan's counted time */
-} queued_scan_t;
+    bool streaming;
+    uint32_t restarts;
+} seen_t;
 
-typedef struct {
-    queued_scan_t item[SCAN_QUEUE];
-    uint32_t head;
-    uint32_t count;
-    uint32_t dropped;
-    uint32_t deepest;      /* most entries waiting at once */
-} scan_queue_t;
-
-static bool queue_push(scan_queue_t *q, const uint8_t *t, size_t len, uint32_t time_us)
+static void report_changes(const char *name, const lms_session_t *s, seen_t *seen)
 {
-    if (q->count == SCAN_QUEUE || len > LMS_TELEGRAM_MAX) {
-        q->dropped++;
-        return false;
+    const bool streaming = lms_session_state(s) == LMS_SESSION_STREAMING;
+    const uint32_t restarts = lms_session_stats(s)->restarts;
+    if (restarts != seen->restarts) {
+        (void)fprintf(stderr, "lmsego: %s: link lost (%s); bringing the scanner up again\n", name,
+                      cause_text(lms_session_cause(s)));
     }
-    queued_scan_t *e = &q->item[(q->head + q->count) % SCAN_QUEUE];
-    if (len > 0u) {
-        memcpy(e->bytes, t, len);
+    if (streaming && !seen->streaming) {
+        const lms_session_info_t *in = lms_session_info(s);
+        (void)fprintf(stderr,
+                      "lmsego: %s: streaming: '%s' at %s baud, %u deg / %u.%02u deg, %s\n", name,
+                      in->type_text, live_baud_name(in->baud), (unsigned)in->angle_deg,
+                      in->resolution_cdeg / 100u, in->resolution_cdeg % 100u,
+                      in->units == 1u ? "mm" : "cm");
     }
-    e->len = (uint16_t)len;
-    e->time_us = time_us;
-    q->count++;
-    q->deepest = q->count > q->deepest ? q->count : q->deepest;
-    return true;
+    seen->streaming = streaming;
+    seen->restarts = restarts;
 }
 
-/* The oldest entry, or NULL; valid until the next push. */
-static const queued_scan_t *queue_pop(scan_queue_t *q)
-{
-    if (q->count == 0u) {
-        return NULL;
-    }
-    const queued_scan_t *e = &q->item[q->head];
-    q->head = (q->head + 1u) % SCAN_QUEUE;
-    q->count--;
-    return e;
-}
-
-/* The whole live job; record selects the mode. */
+/* The whole live job; record selects the mode. The host is the firmware's
+ * board here: what the port delivers goes into the receive ring, stamped
+ * with the time of the read (the receive interrupt's job on a target), and
+ * the firmware core (firmware/ego_live.h) does the rest, the same code a
+ * microcontroller runs: run calls ego_live_step (session, then the
+ * estimator on each scan as it comes); record only ego_live_service
+ * (session, no estimator) and writes every byte read while the scanner
+ * streams. The port is read only as far as the ring has room; the rest
+ * waits in the kernel's buffer (64 KB, 1.3 s at 500 kbaud) while a hard
+ * scan is estimated. */
 static int live(const cli_command_t *self, int argc, char **argv, bool record)
 {
     static live_options_t o;
     static live_io_t io;
-    static lms_session_t session;
-    static ego_loop_t loop;
-    /* Scan times (see the header comment): the firmware core's rule
-     * (ego_live.h), so `run` and a firmware with the session agree. */
-    static ego_live_clock_t clock;
-    static scan_queue_t queue;
-    ego_live_clock_init(&clock);
-    queue.head = 0u;
-    queue.count = 0u;
-    queue.dropped = 0u;
-    queue.deepest = 0u;
+    static ego_live_t core;
+    static uart_ring_t ring;
+    static uint8_t buf[UART_RING_SIZE];
     memset(&o, 0, sizeof o);
     memset(&io, 0, sizeof io);
     lms_session_defaults(&o.session);
     ego_loop_defaults(&o.loop);
-    o.loop.use_clock = true; /* with the counted times of ego_live_clock_scan() */
     const int rc = parse_options(self, argc, argv, record, &o);
     if (rc == PARSED_HELP) {
         return CLI_EXIT_OK; /* --help */
@@ -334,42 +302,32 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     }
     live_catch_stop_signals();
 
-    const lms_session_io_t sio = {io_write, io_set_baud, &io};
-    const ego_hal_t hal = {hal_read_none, hal_write, hal_now_us, &io};
-    ego_loop_init(&loop, &o.loop);
-    if (lms_session_init(&session, &o.session, &sio, hal_now_us(&io)) != LMS_OK) {
+    ego_live_config_t config;
+    ego_live_defaults(&config);
+    config.session = o.session;
+    config.loop = o.loop;
+    config.max_scans = (uint32_t)o.scans;
+    config.deferred = record; /* record: scans wait in the mailbox, never estimated */
+    const ego_live_hal_t hal = {io_write, io_set_baud, hal_now_us, hal_write, &io};
+    uart_ring_init(&ring);
+    if (ego_live_init(&core, &config, &hal, &ring) != LMS_OK) {
         cli_error("invalid session settings");
         lms_serial_close(&io.port);
+        if (record) {
+            (void)recording_writer_close(&rec);
+        }
         return CLI_EXIT_RUNTIME;
     }
+    const lms_session_t *session = ego_live_session(&core);
+    seen_t seen = {false, 0u};
     int status = CLI_EXIT_OK;
     bool stopping = false;
-    bool done = false;
     uint64_t next_reopen_us = 0u;
-    static uint8_t buf[4096];
-    while (!done || queue.count > 0u) {
-        if (done && live_stop_requested()) {
-            /* Interrupted: stop now; the queued scans are counted, not run. */
-            queue.dropped += queue.count;
-            queue.count = 0u;
-            break;
-        }
-        if (done) {
-            /* --scans N reached: the scans queued still get their lines. */
-            const queued_scan_t *e = queue_pop(&queue);
-            if (e->len == 0u) {
-                ego_loop_gap(&loop);
-            } else {
-                ego_loop_telegram(&loop, &hal, e->bytes, e->len, e->time_us);
-            }
-            continue;
-        }
-        if ((live_stop_requested() || (o.scans > 0u && lms_session_stats(&session)->scans >= o.scans)) &&
-            !stopping) {
+    while (ego_live_status(&core) == EGO_LIVE_RUNNING) {
+        if (live_stop_requested() && !stopping) {
             stopping = true;
-            lms_session_stop(&session, hal_now_us(&io));
+            ego_live_stop(&core);
         }
-        size_t got = 0u;
         if (io.port.fd < 0) {
             /* Hung up: try the device again every REOPEN_INTERVAL_MS. */
             const uint64_t t = live_monotonic_us();
@@ -380,7 +338,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
                 next_reopen_us = t + REOPEN_INTERVAL_MS * 1000u;
                 if (lms_serial_open(&io.port, o.port, LMS_BAUD_9600) == LMS_SERIAL_OK) {
                     (void)fprintf(stderr, "lmsego: %s: port reopened\n", self->name);
-                    lms_session_link_lost(&session, hal_now_us(&io));
+                    ego_live_link_lost(&core);
                 }
             }
             if (io.port.fd < 0) {
@@ -389,92 +347,41 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
                 continue;
             }
         }
-        const uint32_t wait = lms_session_wait_us(&session, hal_now_us(&io));
+        const uint32_t wait = ego_live_wait_us(&core);
         int timeout_ms = (int)(wait / 1000u) + (wait % 1000u != 0u ? 1 : 0);
         timeout_ms = timeout_ms > POLL_MAX_MS ? POLL_MAX_MS : timeout_ms;
-        if (queue.count > 0u) {
-            timeout_ms = 0; /* scans are waiting: only take what is there */
-        }
-        ps = lms_serial_read(&io.port, buf, sizeof buf, timeout_ms, &got);
+        const size_t room = UART_RING_SIZE - uart_ring_count(&ring);
+        size_t got = 0u;
+        ps = lms_serial_read(&io.port, buf, room, timeout_ms, &got);
         const uint64_t read_us = live_monotonic_us() - io.t0_us;
-        const uint32_t now = (uint32_t)read_us;
         if (ps == LMS_SERIAL_HANGUP) {
             (void)fprintf(stderr, "lmsego: %s: %s hung up; reopening\n", self->name, o.port);
             lms_serial_close(&io.port);
-            lms_session_link_lost(&session, now);
+            ego_live_link_lost(&core);
             got = 0u;
         } else if (ps < 0) {
             cli_file_error("error reading ", o.port, lms_serial_status_name(ps));
             status = CLI_EXIT_RUNTIME;
             break;
         }
-        const bool was_streaming = lms_session_state(&session) == LMS_SESSION_STREAMING;
-        size_t rec_from = was_streaming ? 0u : got;
-        size_t off = 0u;
-        for (int phase = 0; phase < 2; phase++) {
-            /* phase 0: the bytes just read; phase 1: the timers. Each call
-             * reports one event; loop until there is none. */
-            for (;;) {
-                lms_session_event_t ev;
-                if (phase == 0) {
-                    size_t used = 0u;
-                    ev = lms_session_feed(&session, buf + off, got - off, &used, now);
-                    off += used;
-                } else {
-                    ev = lms_session_poll(&session, now);
-                }
-                if (ev == LMS_SESSION_EV_NONE) {
-                    break;
-                }
-                if (ev == LMS_SESSION_EV_SCAN) {
-                    size_t len = 0u;
-                    const uint8_t *t = lms_session_telegram(&session, &len);
-                    const uint32_t t_us = ego_live_clock_scan(&clock, &session, now);
-                    if (!record) {
-                        (void)queue_push(&queue, t, len, t_us);
-                    }
-                } else if (ev == LMS_SESSION_EV_STREAMING) {
-                    const lms_session_info_t *in = lms_session_info(&session);
-                    (void)fprintf(stderr,
-                                  "lmsego: %s: streaming: '%s' at %s baud, %u deg / %u.%02u deg, "
-                                  "%s\n",
-                                  self->name, in->type_text, live_baud_name(in->baud),
-                                  (unsigned)in->angle_deg, in->resolution_cdeg / 100u,
-                                  in->resolution_cdeg % 100u, in->units == 1u ? "mm" : "cm");
-                    if (phase == 0 && !was_streaming) {
-                        rec_from = off;
-                    }
-                } else if (ev == LMS_SESSION_EV_RESTART) {
-                    (void)fprintf(stderr, "lmsego: %s: link lost (%s); bringing the scanner up again\n",
-                                  self->name, cause_text(lms_session_cause(&session)));
-                    if (!record) {
-                        (void)queue_push(&queue, NULL, 0u, 0u);
-                    }
-                    ego_live_clock_restart(&clock);
-                } else if (ev == LMS_SESSION_EV_STOPPED) {
-                    done = true;
-                } else if (ev == LMS_SESSION_EV_FAILED) {
-                    cli_error(lms_session_error_name(lms_session_error(&session)));
-                    status = CLI_EXIT_RUNTIME;
-                    done = true;
-                }
-            }
+        (void)uart_ring_write(&ring, buf, got, (uint32_t)read_us);
+        if (record) {
+            ego_live_service(&core);
+        } else {
+            (void)ego_live_step(&core);
         }
-        const int rec_error = (record && got > rec_from)
-                                  ? recording_writer_append(&rec, read_us, buf + rec_from,
-                                                            got - rec_from)
+        const bool was_streaming = seen.streaming;
+        report_changes(self->name, session, &seen);
+        /* A recording holds the stream: every read whose bytes the session
+         * took while streaming, from the one that started it to the one
+         * that ended it (its last scan, --scans N). */
+        const int rec_error = (record && got > 0u && (was_streaming || seen.streaming))
+                                  ? recording_writer_append(&rec, read_us, buf, got)
                                   : 0;
         if (rec_error != 0) {
             cli_file_error("error writing ", o.out_path, strerror(rec_error));
             status = CLI_EXIT_RUNTIME;
             break;
-        }
-        /* One queued scan per round, then the line again. */
-        const queued_scan_t *e = queue_pop(&queue);
-        if (e != NULL && e->len == 0u) {
-            ego_loop_gap(&loop);
-        } else if (e != NULL) {
-            ego_loop_telegram(&loop, &hal, e->bytes, e->len, e->time_us);
         }
         if (io.out_failed) {
             cli_error("write error on standard output");
@@ -482,11 +389,15 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
             break;
         }
     }
-    if (!record) {
-        (void)fprintf(stderr, "lmsego: %s: queue deepest=%lu dropped=%lu\n", self->name,
-                      (unsigned long)queue.deepest, (unsigned long)queue.dropped);
+    if (ego_live_status(&core) == EGO_LIVE_FAILED) {
+        cli_error(lms_session_error_name(lms_session_error(session)));
+        status = CLI_EXIT_RUNTIME;
     }
-    report_session(&session, self->name);
+    const ego_live_stats_t *ls = ego_live_stats(&core);
+    (void)fprintf(stderr, "lmsego: %s: ring peak=%lu dropped=%lu discarded=%lu\n", self->name,
+                  (unsigned long)uart_ring_peak(&ring), (unsigned long)uart_ring_dropped(&ring),
+                  (unsigned long)ls->bytes_discarded);
+    report_session(session, self->name);
     lms_serial_close(&io.port);
     const int close_error = record ? recording_writer_close(&rec) : 0;
     if (close_error != 0) {
