@@ -22,6 +22,13 @@ void ego_prep_defaults(ego_prep_params_t *params)
     params->beam_spacing = 0u;
 }
 
+/* A range of units micrometres each in Q16.16 metres, rounded (below 2^31:
+ * at most 65535 units of 0.5 m, ego_range_check). */
+static fx_q16_16_t q16_from_units(uint16_t value, uint32_t unit_um)
+{
+    return (fx_q16_16_t)((((uint64_t)value * unit_um << 16) + 500000u) / 1000000u);
+}
+
 /* A bearing step (less than half a turn) in radians, Q2.30. */
 static fx_q2_30_t rad_from_step(uint32_t step)
 {
@@ -94,8 +101,11 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
     uint16_t prev_beam = 0u;
     fx_bam32_t prev_bearing = 0u;
     for (uint32_t k = 0u; k < in->count; k += beam_step) {
-        const fx_q16_16_t r = in->range[k];
-        if (!in->valid[k] || r < params->min_range || r > params->max_range) {
+        if (in->range[k] == 0u) {
+            continue;
+        }
+        const fx_q16_16_t r = q16_from_units(in->range[k], in->range_unit_um);
+        if (r < params->min_range || r > params->max_range) {
             continue;
         }
         /* The link tests use the point relative to the sensor; they only

@@ -7,8 +7,10 @@
  * session reports the scanner's real mode, lms_session_info), the LMS angle
  * convention (0 deg on the scanner's right, 90 deg straight ahead) and the
  * scanner's mounting pose on the vehicle. Special values (no return,
- * dazzle, beyond max, ...) become invalid beams. Portable C11: no OS
- * headers, no heap.
+ * dazzle, beyond max, ...) become beams without a range. The ranges are
+ * written over the scan's own values (no second buffer: RAM is what a
+ * microcontroller lacks), so the range scan points into lms. Portable
+ * C11: no OS headers, no heap.
  */
 #ifndef EGO_LMS_H
 #define EGO_LMS_H
@@ -38,10 +40,13 @@ typedef enum {
     EGO_LMS_ERR_LAYOUT = -2 /* the value count is not an LMS variant */
 } ego_lms_status_t;
 
-/* Fills out from lms: one beam per value, bearing per beam (each LMS angle
- * rounded to a binary angle on its own, then turned by mount_theta), range
- * rounded to Q16.16 metres. On an error out->count is 0. */
-ego_lms_status_t ego_lms_to_range(const lms_scan_t *lms, const ego_lms_params_t *params,
+/* Turns lms's values into ranges in place (in the scan's unit, 0 for a
+ * special value: the raw words are gone) and fills out to point at them:
+ * one beam per value, uniform bearings from the LMS layout turned by
+ * mount_theta (each bearing comes out as the LMS angle rounded to a binary
+ * angle on its own would). On an error lms is untouched and out->count
+ * is 0. */
+ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *params,
                                   ego_range_scan_t *out);
 
 #endif /* EGO_LMS_H */

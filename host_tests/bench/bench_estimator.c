@@ -26,6 +26,7 @@ static lms_scan_t scans[MAX_SCANS];
 static double seconds[MAX_SCANS];
 static ego_state_t state;
 static ego_lms_params_t lms;
+static lms_scan_t work; /* the adapter turns its values into ranges in place */
 static ego_range_scan_t range;
 
 
@@ -51,7 +52,8 @@ __attribute__((noinline)) static unsigned long bench_process_all(const ego_param
         if (timed) {
             (void)clock_gettime(CLOCK_MONOTONIC, &t0);
         }
-        if (ego_lms_to_range(&scans[k], &lms, &range) == EGO_LMS_OK) {
+        work = scans[k];
+        if (ego_lms_to_range(&work, &lms, &range) == EGO_LMS_OK) {
             (void)ego_process(&state, p, &range, (uint32_t)k * lms_scan_period_us(scans[k].count),
                               &out);
         } else {

@@ -63,8 +63,10 @@ void synth_scan(const synth_wall_t *walls, unsigned nwalls, double x, double y, 
 
 const ego_range_scan_t *synth_range(const lms_scan_t *lms)
 {
+    static lms_scan_t work; /* the adapter writes the ranges over the values */
     static ego_range_scan_t range;
     ego_lms_params_t params;
     ego_lms_defaults(&params);
-    return (ego_lms_to_range(lms, &params, &range) == EGO_LMS_OK) ? &range : NULL;
+    work = *lms;
+    return (ego_lms_to_range(&work, &params, &range) == EGO_LMS_OK) ? &range : NULL;
 }

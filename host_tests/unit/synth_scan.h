@@ -17,9 +17,9 @@ typedef struct {
 void synth_scan(const synth_wall_t *walls, unsigned nwalls, double x, double y, double heading,
                 unsigned count, lms_unit_t unit, lms_scan_t *out);
 
-/* lms through the LMS adapter with its defaults (firmware/ego_lms.h: mode
- * 00, no mount offset), into a static range scan that the next call
- * overwrites; NULL when the adapter refuses it. */
+/* A copy of lms through the LMS adapter with its defaults (firmware/
+ * ego_lms.h: mode 00, no mount offset), as a static range scan that the
+ * next call overwrites; NULL when the adapter refuses it. */
 const ego_range_scan_t *synth_range(const lms_scan_t *lms);
 
 /* A room with a few angled features: 14 walls, about 16 x 10 m. */

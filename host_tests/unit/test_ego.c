@@ -193,7 +193,7 @@ static void test_ego_gap_and_sparse_scans(void)
      * leaves the state alone: the next good scan still matches the last. */
     static ego_range_scan_t bad;
     bad = *synth_range(&g_lms);
-    bad.bearing[7] = bad.bearing[6];
+    bad.bearing_step = 0u;
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 2100000u, &out));
     TEST_ASSERT_EQUAL_INT(EGO_ERR_ARG, ego_process(NULL, &g_params, &bad, 0u, &out));
     TEST_ASSERT_EQUAL_INT(EGO_ERR_ARG, ego_process(&g_state, &g_params, NULL, 0u, &out));

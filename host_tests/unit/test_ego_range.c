@@ -23,13 +23,17 @@ void tearDown(void)
 }
 
 #define BEAMS 720u
-/* 0.5 deg as a binary angle, rounded: 720 of them stay within one turn. */
-#define STEP_BAM 5965232u
-/* Ranges as a sensor with 1 cm resolution and 60 m reach reports them. */
+/* 0.5 deg as a Q32.32 binary angle: 2^64 / 720, rounded. */
+#define STEP_Q32 25620477880152158ull
+/* Ranges in cm as a sensor with 1 cm resolution and 60 m reach reports
+ * them. */
+#define UNIT_UM 10000u
 #define MAX_RANGE_M 60.0
 /* Scans apart: 26.7 ms (the campus drive at its own speed). */
 #define PERIOD_S (2.0 / 75.0)
 
+static uint16_t g_range[BEAMS];
+static fx_bam32_t g_bearing[BEAMS];
 static ego_range_scan_t g_scan;
 static ego_state_t g_state;
 static ego_params_t g_params;
@@ -40,28 +44,28 @@ static double rad_of_bam(uint32_t a)
     return (double)(int32_t)a * FX_HOST_PI / 2147483648.0;
 }
 
-/* The 360-degree scan from pose: beam k at bearing -180 deg + k * STEP_BAM
- * in the vehicle frame, the sensor 0.3 m ahead of the vehicle's origin. */
+/* The 360-degree scan from pose: beam k at bearing -180 deg + k * 0.5 deg
+ * in the vehicle frame (uniform, or the same bearings from a table), the
+ * sensor 0.3 m ahead of the vehicle's origin. */
 static void cast_scan(wpose_t pose, bool per_beam)
 {
     memset(&g_scan, 0, sizeof g_scan);
     g_scan.count = BEAMS;
+    g_scan.range = g_range;
+    g_scan.range_unit_um = UNIT_UM;
     g_scan.origin_x = FX_Q16_16_C(0.3);
     g_scan.origin_y = 0;
-    g_scan.per_beam_bearing = per_beam;
-    g_scan.first_bearing = 0x80000000u;
-    g_scan.bearing_step = STEP_BAM;
+    g_scan.first_bearing = EGO_BEARING_Q32(0x80000000u);
+    g_scan.bearing_step = STEP_Q32;
     const double ox = pose.x + 0.3 * cos(pose.theta);
     const double oy = pose.y + 0.3 * sin(pose.theta);
     for (uint16_t k = 0u; k < BEAMS; k++) {
-        const uint32_t bam = 0x80000000u + (uint32_t)k * STEP_BAM;
-        g_scan.bearing[k] = bam;
-        const double a = pose.theta + rad_of_bam(bam);
+        g_bearing[k] = ego_range_bearing(&g_scan, k);
+        const double a = pose.theta + rad_of_bam(g_bearing[k]);
         const double r = wmap_cast(&g_map, ox, oy, cos(a), sin(a));
-        g_scan.valid[k] = isfinite(r) && r <= MAX_RANGE_M;
-        const double cm = g_scan.valid[k] ? round(r * 100.0) : 0.0;
-        g_scan.range[k] = (fx_q16_16_t)lround(cm / 100.0 * 65536.0);
+        g_range[k] = (isfinite(r) && r <= MAX_RANGE_M) ? (uint16_t)lround(r * 100.0) : 0u;
     }
+    g_scan.bearing = per_beam ? g_bearing : NULL;
 }
 
 typedef struct {
@@ -166,20 +170,33 @@ static void test_ego_range_malformed_scans_are_refused(void)
     TEST_ASSERT_TRUE(ego_range_check(&g_scan));
     TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_scan, 0u, &out));
 
-    static ego_range_scan_t bad;
-    bad = g_scan;
+    ego_range_scan_t bad = g_scan;
     bad.count = (uint16_t)(EGO_MAX_BEAMS + 1u); /* beyond the capacity */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad = g_scan;
+    bad.range = NULL; /* no ranges */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad = g_scan;
+    bad.range_unit_um = 0u; /* no unit */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad.range_unit_um = 500001u; /* 65535 units would not fit Q16.16 metres */
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
     bad = g_scan;
     bad.bearing_step = 0u; /* no step */
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
-    bad.bearing_step = 0x80000000u; /* half a turn: direction unknown */
+    bad.bearing_step = (uint64_t)1 << 63; /* half a turn: direction unknown */
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
-    bad.bearing_step = STEP_BAM + 10000u; /* 719 steps: more than one turn */
+    bad.bearing_step = UINT64_MAX / 719u + 1u; /* 719 steps: more than one turn */
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad.bearing_step = UINT64_MAX / 719u; /* just one turn: fine */
+    TEST_ASSERT_TRUE(ego_range_check(&bad));
+    static fx_bam32_t table[BEAMS];
+    memcpy(table, g_bearing, sizeof table);
+    table[300] = table[299] - 1u; /* goes back */
     bad = g_scan;
-    bad.per_beam_bearing = true;
-    bad.bearing[300] = bad.bearing[299] - 1u; /* goes back */
+    bad.bearing = table;
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    table[300] = table[299] + 0x80000000u; /* half a turn at once */
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
     TEST_ASSERT_FALSE(ego_range_check(NULL));
 
@@ -198,12 +215,13 @@ static void test_ego_range_tiny_scans_are_flagged(void)
     ego_defaults(&g_params);
     ego_reset(&g_state);
     memset(&g_scan, 0, sizeof g_scan);
-    g_scan.bearing_step = STEP_BAM;
+    g_scan.bearing_step = STEP_Q32;
+    g_scan.range_unit_um = UNIT_UM;
     ego_output_t out;
     TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_scan, 0u, &out));
     g_scan.count = 1u;
-    g_scan.valid[0] = true;
-    g_scan.range[0] = FX_Q16_16_C(5.0);
+    g_scan.range = g_range;
+    g_range[0] = 500u; /* 5 m */
     TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_scan, 26667u, &out));
     TEST_ASSERT_TRUE((out.flags & EGO_FLAG_TOO_FEW_POINTS) != 0u);
 }

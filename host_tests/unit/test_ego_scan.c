@@ -14,6 +14,7 @@
 
 static lms_scan_t g_lms;
 static ego_lms_params_t g_lmsp; /* mount and measuring mode: defaults before each test */
+static lms_scan_t g_work; /* g_lms with its values turned into ranges */
 static ego_range_scan_t g_range;
 static ego_scan_t g_scan;
 
@@ -75,7 +76,8 @@ static void make_wall_scan(unsigned count, lms_unit_t unit, double d)
 
 static void prepare(const ego_prep_params_t *p)
 {
-    TEST_ASSERT_EQUAL_INT(EGO_LMS_OK, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    g_work = g_lms;
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_OK, ego_lms_to_range(&g_work, &g_lmsp, &g_range));
     TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_range, p, &g_scan));
 }
 
@@ -282,16 +284,18 @@ static void test_ego_scan_range_limits_and_errors(void)
     TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_range, NULL, &g_scan));
     TEST_ASSERT_EQUAL_INT(EGO_PREP_ERR_ARG, ego_scan_prepare(&g_range, &p, NULL));
     TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(NULL, &g_lmsp, &g_range));
-    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, NULL, &g_range));
-    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, &g_lmsp, NULL));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_work, NULL, &g_range));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_work, &g_lmsp, NULL));
+    g_work = g_lms;
     g_lmsp.meas_mode = 0x3Fu; /* reflectivity: not ranges */
-    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_work, &g_lmsp, &g_range));
     TEST_ASSERT_EQUAL_UINT16(0u, g_range.count);
     g_lmsp.meas_mode = 0x07u;
-    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_ARG, ego_lms_to_range(&g_work, &g_lmsp, &g_range));
     ego_lms_defaults(&g_lmsp);
-    g_lms.count = 180u; /* no LMS variant */
-    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_LAYOUT, ego_lms_to_range(&g_lms, &g_lmsp, &g_range));
+    g_work = g_lms;
+    g_work.count = 180u; /* no LMS variant */
+    TEST_ASSERT_EQUAL_INT(EGO_LMS_ERR_LAYOUT, ego_lms_to_range(&g_work, &g_lmsp, &g_range));
     TEST_ASSERT_EQUAL_UINT16(0u, g_range.count);
 }
 
