@@ -150,6 +150,23 @@ static const lms_value_kind_t top_code_kind[9] = {
     LMS_VALUE_RESERVED,      LMS_VALUE_RESERVED, LMS_VALUE_BEYOND_MAX,
 };
 
+lms_status_t lms_scan_to_ranges(lms_scan_t *scan, uint8_t meas_mode)
+{
+    const unsigned bits = lms_meas_mode_bits(meas_mode);
+    if (scan == NULL || bits == 0u || meas_mode == LMS_MEAS_REFLECTIVITY ||
+        scan->count > LMS_SCAN_MAX_VALUES) {
+        return LMS_ERR_ARG;
+    }
+    const uint32_t max = (1u << bits) - 1u;
+    /* Mode 0F's 16 bits have no special codes: every value is a range. */
+    const uint32_t first_special = (bits < 16u) ? max - 8u : 0x10000u;
+    for (uint16_t k = 0u; k < scan->count; k++) {
+        const uint32_t d = scan->values[k] & max;
+        scan->values[k] = (uint16_t)((d >= first_special) ? 0u : d);
+    }
+    return LMS_OK;
+}
+
 lms_status_t lms_value_decode(uint16_t word, uint8_t meas_mode, lms_unit_t unit, lms_value_t *out)
 {
     if (out == NULL) {

@@ -93,6 +93,14 @@ typedef struct {
 lms_status_t lms_value_decode(uint16_t word, uint8_t meas_mode, lms_unit_t unit,
                               lms_value_t *out);
 
+/* Every value of scan as a plain range in place: the distance bits of its
+ * word, in the scan's unit, or 0 for a special code (the same split as
+ * lms_value_decode; field flags and dazzle bits dropped). One pass, no
+ * scaling: for a consumer that wants ranges only (the estimator's LMS
+ * adapter). LMS_ERR_ARG for a NULL scan, an unknown mode or reflectivity
+ * values (mode 3F: not ranges); the scan is then untouched. */
+lms_status_t lms_scan_to_ranges(lms_scan_t *scan, uint8_t meas_mode);
+
 /* Angular layout of a scan, in 1/100 degree, scanner convention (0 right,
  * 90 ahead, 180 left). */
 typedef struct {

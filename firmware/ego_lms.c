@@ -33,23 +33,15 @@ ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *param
     }
     memset(out, 0, sizeof *out);
     out->range_unit_um = 1000u;
-    if (lms == NULL || params == NULL || lms_meas_mode_bits(params->meas_mode) == 0u ||
-        params->meas_mode == (uint8_t)LMS_MEAS_REFLECTIVITY ||
-        (lms->unit != LMS_UNIT_CM && lms->unit != LMS_UNIT_MM)) {
+    if (lms == NULL || params == NULL || (lms->unit != LMS_UNIT_CM && lms->unit != LMS_UNIT_MM)) {
         return EGO_LMS_ERR_ARG;
     }
     lms_layout_t layout;
     if (lms_scan_layout(lms, &layout) != LMS_OK || lms->count > EGO_MAX_BEAMS) {
         return EGO_LMS_ERR_LAYOUT;
     }
-    for (uint16_t k = 0u; k < lms->count; k++) {
-        lms_value_t v;
-        const bool range = lms_value_decode(lms->values[k], params->meas_mode, lms->unit, &v) ==
-                               LMS_OK &&
-                           v.kind == LMS_VALUE_RANGE;
-        /* distance_mm is the value times 10 in cm: back to the unit. */
-        lms->values[k] = !range ? 0u
-                         : (uint16_t)(lms->unit == LMS_UNIT_CM ? v.distance_mm / 10u : v.distance_mm);
+    if (lms_scan_to_ranges(lms, params->meas_mode) != LMS_OK) {
+        return EGO_LMS_ERR_ARG; /* a mode without ranges: lms untouched */
     }
     out->count = lms->count;
     out->range = lms->values;

@@ -566,6 +566,44 @@ static void test_lms_decode_status_byte_every_value(void)
     TEST_ASSERT_FALSE(ok.pollution);
 }
 
+/* lms_scan_to_ranges agrees with lms_value_decode on every mode, for the
+ * top codes of every width and random words: the distance in the scan's
+ * unit for a range, 0 for a special code; refused modes leave the scan
+ * alone. */
+static void test_lms_decode_scan_to_ranges_matches_value_decode(void)
+{
+    static const uint8_t modes[] = {0x00u, 0x01u, 0x02u, 0x03u, 0x04u, 0x05u, 0x06u, 0x0Fu};
+    static lms_scan_t scan;
+    static lms_scan_t raw;
+    uint32_t seed = 0x5EEDu;
+    for (size_t m = 0u; m < sizeof modes; m++) {
+        for (unsigned unit = 0u; unit < 2u; unit++) {
+            memset(&raw, 0, sizeof raw);
+            raw.count = LMS_SCAN_MAX_VALUES;
+            raw.unit = unit == 0u ? LMS_UNIT_CM : LMS_UNIT_MM;
+            for (uint16_t k = 0u; k < raw.count; k++) {
+                /* The first 64 words: every top code of 13..16 bits. */
+                raw.values[k] = (k < 64u) ? (uint16_t)((0x2000u << (k / 16u)) - 1u - (k % 16u))
+                                          : (uint16_t)tu_rand(&seed);
+            }
+            scan = raw;
+            TEST_ASSERT_EQUAL_INT(LMS_OK, lms_scan_to_ranges(&scan, modes[m]));
+            for (uint16_t k = 0u; k < raw.count; k++) {
+                lms_value_t v;
+                TEST_ASSERT_EQUAL_INT(LMS_OK, lms_value_decode(raw.values[k], modes[m], raw.unit, &v));
+                const uint32_t want = (v.kind != LMS_VALUE_RANGE) ? 0u
+                                      : (raw.unit == LMS_UNIT_CM ? v.distance_mm / 10u : v.distance_mm);
+                TEST_ASSERT_EQUAL_UINT16_MESSAGE(want, scan.values[k], "word by word");
+            }
+        }
+    }
+    scan = raw;
+    TEST_ASSERT_EQUAL_INT(LMS_ERR_ARG, lms_scan_to_ranges(&scan, 0x3Fu));
+    TEST_ASSERT_EQUAL_INT(LMS_ERR_ARG, lms_scan_to_ranges(&scan, 0x07u));
+    TEST_ASSERT_EQUAL_MEMORY(&raw, &scan, sizeof scan);
+    TEST_ASSERT_EQUAL_INT(LMS_ERR_ARG, lms_scan_to_ranges(NULL, 0x00u));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -583,6 +621,7 @@ int main(void)
     RUN_TEST(test_lms_decode_value_special_codes_by_name);
     RUN_TEST(test_lms_decode_value_immediate_and_reflectivity);
     RUN_TEST(test_lms_decode_value_rejects_unknown_mode_and_unit);
+    RUN_TEST(test_lms_decode_scan_to_ranges_matches_value_decode);
     RUN_TEST(test_lms_decode_layout_full_scans);
     RUN_TEST(test_lms_decode_layout_partial_scans);
     RUN_TEST(test_lms_decode_layout_rejects_other_counts);
