@@ -75,11 +75,11 @@ static inline bool ego_range_check(const ego_range_scan_t *scan)
     }
     uint64_t sweep = 0u;
     for (uint16_t k = 1u; k < scan->count; k++) {
-        const uint32_t step = scan->bearing[k] - scan->bearing[k - 1u];
-        if (step == 0u || step >= 0x80000000u) {
+        const uint32_t turn = scan->bearing[k] - scan->bearing[k - 1u];
+        if (turn == 0u || turn >= 0x80000000u) {
             return false;
         }
-        sweep += step;
+        sweep += turn;
     }
     return sweep <= 0xFFFFFFFFu;
 }
