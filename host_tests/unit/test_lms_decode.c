@@ -583,8 +583,9 @@ static void test_lms_decode_scan_to_ranges_matches_value_decode(void)
             raw.unit = unit == 0u ? LMS_UNIT_CM : LMS_UNIT_MM;
             for (uint16_t k = 0u; k < raw.count; k++) {
                 /* The first 64 words: every top code of 13..16 bits. */
-                raw.values[k] = (k < 64u) ? (uint16_t)((0x2000u << (k / 16u)) - 1u - (k % 16u))
-                                          : (uint16_t)tu_rand(&seed);
+                const uint32_t word = (k < 64u) ? (0x2000u << (k / 16u)) - 1u - (k % 16u)
+                                                : tu_rand(&seed);
+                raw.values[k] = (uint16_t)word;
             }
             scan = raw;
             TEST_ASSERT_EQUAL_INT(LMS_OK, lms_scan_to_ranges(&scan, modes[m]));
