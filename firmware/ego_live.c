@@ -101,6 +101,8 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
     live->hal = *hal;
     live->rx = rx;
     live->max_scans = config->max_scans;
+    live->scan_ready = config->scan_ready;
+    live->scan_ready_ctx = config->scan_ready_ctx;
     live->deferred = config->deferred || !INLINE_ESTIMATOR;
     live->write_slot = 0u;
     atomic_init(&live->middle, 1u);
@@ -169,6 +171,9 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
         live->stats.scans++;
         if (live->deferred || !INLINE_ESTIMATOR) {
             publish(live, t, len, t_us);
+            if (live->scan_ready != NULL) {
+                live->scan_ready(live->scan_ready_ctx);
+            }
         } else {
             /* The values are decoded with the mode the scanner measures in. */
             ego_loop_set_meas_mode(&live->loop, lms_session_info(&live->session)->meas_mode);
@@ -222,6 +227,18 @@ static void feed_chunk(ego_live_t *live, size_t n, uint32_t arrival_us)
     }
 }
 
+/* The session's timers at now_us, every event handled. */
+static void run_timers(ego_live_t *live, uint32_t now_us)
+{
+    for (uint32_t guard = 0u; guard < 16u && live->status == EGO_LIVE_RUNNING; guard++) {
+        const lms_session_event_t ev = lms_session_poll(&live->session, now_us);
+        if (ev == LMS_SESSION_EV_NONE) {
+            break;
+        }
+        on_event(live, ev, now_us);
+    }
+}
+
 /* Everything but the estimator (deferred mode) or everything (not). */
 static void service(ego_live_t *live)
 {
@@ -256,14 +273,7 @@ static void service(ego_live_t *live)
      * spent a while on the scans, and what came meanwhile waits in the
      * ring or the UART for the next step). Silence is judged by a step
      * that found nothing waiting, at most one step later. */
-    const uint32_t now = fed ? last_arrival_us : live->hal.now_us(live->hal.ctx);
-    for (uint32_t guard = 0u; guard < 16u && live->status == EGO_LIVE_RUNNING; guard++) {
-        const lms_session_event_t ev = lms_session_poll(&live->session, now);
-        if (ev == LMS_SESSION_EV_NONE) {
-            break;
-        }
-        on_event(live, ev, now);
-    }
+    run_timers(live, fed ? last_arrival_us : live->hal.now_us(live->hal.ctx));
 }
 
 void ego_live_service(ego_live_t *live)
@@ -271,23 +281,36 @@ void ego_live_service(ego_live_t *live)
     service(live);
 }
 
-bool ego_live_estimate(ego_live_t *live)
+const ego_live_slot_t *ego_live_take(ego_live_t *live)
 {
     if (!live->deferred ||
         ((unsigned)atomic_load(&live->middle) & EGO_LIVE_FRESH) == 0u) {
-        return false;
+        return NULL;
     }
     /* The fresh middle slot becomes ours; ours becomes the middle (not
      * fresh), for the producer to fill next. */
     const unsigned got = (unsigned)atomic_exchange(&live->middle, (uint_fast8_t)live->read_slot);
     live->read_slot = (uint8_t)(got & EGO_LIVE_SLOT_MASK);
-    const ego_live_slot_t *slot = &live->slot[live->read_slot];
+    return &live->slot[live->read_slot];
+}
+
+void ego_live_estimate_slot(ego_live_t *live, const ego_live_slot_t *slot)
+{
     if (slot->gap) {
         ego_loop_gap(&live->loop);
     }
     ego_loop_set_meas_mode(&live->loop, slot->meas_mode);
     ego_loop_telegram(&live->loop, &live->loop_hal, slot->bytes, slot->len, slot->time_us);
     live->stats.scans_estimated++;
+}
+
+bool ego_live_estimate(ego_live_t *live)
+{
+    const ego_live_slot_t *slot = ego_live_take(live);
+    if (slot == NULL) {
+        return false;
+    }
+    ego_live_estimate_slot(live, slot);
     return true;
 }
 

@@ -74,6 +74,12 @@ typedef struct {
     bool deferred;            /* false: ego_live_step estimates every scan as it comes;
                                  true: the newest scan waits for ego_live_estimate
                                  (see "Deferred mode" below) */
+    /* Deferred mode, optional (NULL on a target): called by the service
+     * each time it put a scan in the mailbox, in the service's context,
+     * for a consumer that keeps its own queue and takes the scan there
+     * (ego_live_take) before a newer one could replace it: `lmsego run`. */
+    void (*scan_ready)(void *ctx);
+    void *scan_ready_ctx;
 } ego_live_config_t;
 
 /* Session defaults (500 kbaud, scanner's variant and units kept), loop
@@ -145,6 +151,8 @@ typedef struct {
      * EGO_LIVE_FRESH when it holds a scan not yet taken) changes hands by
      * atomic exchange only, so the two never touch the same slot. */
     bool deferred;
+    void (*scan_ready)(void *ctx);
+    void *scan_ready_ctx;
     ego_live_slot_t slot[EGO_LIVE_SLOTS];
     atomic_uint_fast8_t middle;
     uint8_t write_slot;
@@ -190,6 +198,14 @@ ego_live_status_t ego_live_step(ego_live_t *live);
  * path at all: what a firmware serving the line from an interrupt uses. */
 void ego_live_service(ego_live_t *live);
 bool ego_live_estimate(ego_live_t *live);
+
+/* ego_live_estimate in its two halves, for a consumer that keeps its own
+ * queue (`lmsego run`: every scan estimated in order however long the
+ * estimator takes, the line served between any two): ego_live_take hands
+ * over the newest waiting scan (NULL: none), valid until the next take;
+ * ego_live_estimate_slot runs one through the loop. Main loop only. */
+const ego_live_slot_t *ego_live_take(ego_live_t *live);
+void ego_live_estimate_slot(ego_live_t *live, const ego_live_slot_t *slot);
 
 /* How long the caller may sleep (WFI) before the next step if no byte
  * comes: 0 when bytes wait or something is due. */

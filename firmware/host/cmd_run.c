@@ -27,7 +27,9 @@
  * Both run the firmware's live core (firmware/ego_live.h) with the host as
  * its board: the bytes read go into the same receive ring a UART interrupt
  * fills on a target, and the same service and estimate steps run; see
- * live() below.
+ * live() below. After --scans N the scans still queued for the estimator
+ * get their lines; after a signal they are dropped (counted on stderr), so
+ * an interrupt never waits for a backlog.
  * Exit status: 0 after a clean stop, 1 when the port cannot be used or the
  * scanner refuses a setting, 2 for a bad command line. The last stderr line
  * holds the counters.
@@ -255,25 +257,85 @@ static void report_changes(const char *name, const lms_session_t *s, seen_t *see
     seen->restarts = restarts;
 }
 
+/* Scans waiting for the estimator, taken from the core as soon as the
+ * service put them in its mailbox, so none is replaced there: 4096 hold 55 s
+ * of 75 Hz scans; a scan that finds the queue full is dropped and counted. */
+#define SCAN_QUEUE 4096u
+
+typedef struct {
+    ego_live_slot_t item[SCAN_QUEUE];
+    uint32_t head;
+    uint32_t count;
+    uint32_t dropped;
+    uint32_t deepest;      /* most entries waiting at once */
+} scan_queue_t;
+
+static void queue_push(scan_queue_t *q, const ego_live_slot_t *slot)
+{
+    if (q->count == SCAN_QUEUE) {
+        q->dropped++;
+        return;
+    }
+    q->item[(q->head + q->count) % SCAN_QUEUE] = *slot;
+    q->count++;
+    q->deepest = q->count > q->deepest ? q->count : q->deepest;
+}
+
+/* The oldest entry, or NULL; valid until the next push. */
+static const ego_live_slot_t *queue_pop(scan_queue_t *q)
+{
+    if (q->count == 0u) {
+        return NULL;
+    }
+    const ego_live_slot_t *e = &q->item[q->head];
+    q->head = (q->head + 1u) % SCAN_QUEUE;
+    q->count--;
+    return e;
+}
+
+/* The core's scan_ready: the scan it just put in the mailbox, into the
+ * queue (run) or nowhere (record: queue NULL). */
+typedef struct {
+    ego_live_t *core;
+    scan_queue_t *queue;
+} take_t;
+
+static void take_scan(void *ctx)
+{
+    const take_t *t = ctx;
+    const ego_live_slot_t *s = ego_live_take(t->core);
+    if (s != NULL && t->queue != NULL) {
+        queue_push(t->queue, s);
+    }
+}
+
 /* The whole live job; record selects the mode. The host is the firmware's
- * board here: what the port delivers goes into the receive ring, stamped
- * with the time of the read (the receive interrupt's job on a target), and
- * the firmware core (firmware/ego_live.h) does the rest, the same code a
- * microcontroller runs: run calls ego_live_step (session, then the
- * estimator on each scan as it comes); record only ego_live_service
- * (session, no estimator) and writes every byte read while the scanner
- * streams. The port is read only as far as the ring has room; the rest
- * waits in the kernel's buffer (64 KB, 1.3 s at 500 kbaud) while a hard
- * scan is estimated. */
+ * board here, and runs the firmware core (firmware/ego_live.h) in its
+ * deferred mode, the code a microcontroller runs: what the port delivers
+ * goes into the core's receive ring, stamped with the time of the read (the
+ * receive interrupt's job on a target), and ego_live_service runs the
+ * session at once. The estimator's half differs in one way: where a target
+ * estimates only the newest scan, run takes every scan out of the mailbox
+ * as it comes (ego_live_take) into its own queue and estimates them in
+ * order, one between two reads (ego_live_estimate_slot), so the line and
+ * the session's timers are served however long a hard scan takes and no
+ * scan is skipped: on a line that loses nothing the output is byte for
+ * byte `lmsego replay`'s. record takes the scans and drops them, and
+ * writes every read the session took while streaming. */
 static int live(const cli_command_t *self, int argc, char **argv, bool record)
 {
     static live_options_t o;
     static live_io_t io;
     static ego_live_t core;
     static uart_ring_t ring;
+    static scan_queue_t queue;
     static uint8_t buf[UART_RING_SIZE];
     memset(&o, 0, sizeof o);
     memset(&io, 0, sizeof io);
+    queue.head = 0u;
+    queue.count = 0u;
+    queue.dropped = 0u;
+    queue.deepest = 0u;
     lms_session_defaults(&o.session);
     ego_loop_defaults(&o.loop);
     const int rc = parse_options(self, argc, argv, record, &o);
@@ -307,7 +369,12 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     config.session = o.session;
     config.loop = o.loop;
     config.max_scans = (uint32_t)o.scans;
-    config.deferred = record; /* record: scans wait in the mailbox, never estimated */
+    config.deferred = true;
+    static take_t take;
+    take.core = &core;
+    take.queue = record ? NULL : &queue;
+    config.scan_ready = take_scan;
+    config.scan_ready_ctx = &take;
     const ego_live_hal_t hal = {io_write, io_set_baud, hal_now_us, hal_write, &io};
     uart_ring_init(&ring);
     if (ego_live_init(&core, &config, &hal, &ring) != LMS_OK) {
@@ -328,6 +395,8 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
             stopping = true;
             ego_live_stop(&core);
         }
+        size_t got = 0u;
+        uint64_t read_us = live_monotonic_us() - io.t0_us;
         if (io.port.fd < 0) {
             /* Hung up: try the device again every REOPEN_INTERVAL_MS. */
             const uint64_t t = live_monotonic_us();
@@ -346,30 +415,29 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
                 (void)nanosleep(&nap, NULL);
                 continue;
             }
-        }
-        const uint32_t wait = ego_live_wait_us(&core);
-        int timeout_ms = (int)(wait / 1000u) + (wait % 1000u != 0u ? 1 : 0);
-        timeout_ms = timeout_ms > POLL_MAX_MS ? POLL_MAX_MS : timeout_ms;
-        const size_t room = UART_RING_SIZE - uart_ring_count(&ring);
-        size_t got = 0u;
-        ps = lms_serial_read(&io.port, buf, room, timeout_ms, &got);
-        const uint64_t read_us = live_monotonic_us() - io.t0_us;
-        if (ps == LMS_SERIAL_HANGUP) {
-            (void)fprintf(stderr, "lmsego: %s: %s hung up; reopening\n", self->name, o.port);
-            lms_serial_close(&io.port);
-            ego_live_link_lost(&core);
-            got = 0u;
-        } else if (ps < 0) {
-            cli_file_error("error reading ", o.port, lms_serial_status_name(ps));
-            status = CLI_EXIT_RUNTIME;
-            break;
+        } else {
+            const uint32_t wait = ego_live_wait_us(&core);
+            int timeout_ms = (int)(wait / 1000u) + (wait % 1000u != 0u ? 1 : 0);
+            timeout_ms = timeout_ms > POLL_MAX_MS ? POLL_MAX_MS : timeout_ms;
+            if (queue.count > 0u) {
+                timeout_ms = 0; /* scans are waiting: only take what is there */
+            }
+            const size_t room = UART_RING_SIZE - uart_ring_count(&ring);
+            ps = lms_serial_read(&io.port, buf, room, timeout_ms, &got);
+            read_us = live_monotonic_us() - io.t0_us;
+            if (ps == LMS_SERIAL_HANGUP) {
+                (void)fprintf(stderr, "lmsego: %s: %s hung up; reopening\n", self->name, o.port);
+                lms_serial_close(&io.port);
+                ego_live_link_lost(&core);
+                got = 0u;
+            } else if (ps < 0) {
+                cli_file_error("error reading ", o.port, lms_serial_status_name(ps));
+                status = CLI_EXIT_RUNTIME;
+                break;
+            }
         }
         (void)uart_ring_write(&ring, buf, got, (uint32_t)read_us);
-        if (record) {
-            ego_live_service(&core);
-        } else {
-            (void)ego_live_step(&core);
-        }
+        ego_live_service(&core); /* each scan goes to take_scan as it comes */
         const bool was_streaming = seen.streaming;
         report_changes(self->name, session, &seen);
         /* A recording holds the stream: every read whose bytes the session
@@ -383,20 +451,36 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
             status = CLI_EXIT_RUNTIME;
             break;
         }
+        /* One queued scan per round, then the line again. */
+        const ego_live_slot_t *e = queue_pop(&queue);
+        if (e != NULL) {
+            ego_live_estimate_slot(&core, e);
+        }
         if (io.out_failed) {
             cli_error("write error on standard output");
             status = CLI_EXIT_RUNTIME;
             break;
         }
     }
+    /* --scans N reached: the scans queued still get their lines; after a
+     * signal they are dropped (counted), so an interrupt never waits for a
+     * backlog. */
+    while (status == CLI_EXIT_OK && !live_stop_requested() && !io.out_failed) {
+        const ego_live_slot_t *e = queue_pop(&queue);
+        if (e == NULL) {
+            break;
+        }
+        ego_live_estimate_slot(&core, e);
+    }
+    queue.dropped += queue.count;
     if (ego_live_status(&core) == EGO_LIVE_FAILED) {
         cli_error(lms_session_error_name(lms_session_error(session)));
         status = CLI_EXIT_RUNTIME;
     }
-    const ego_live_stats_t *ls = ego_live_stats(&core);
-    (void)fprintf(stderr, "lmsego: %s: ring peak=%lu dropped=%lu discarded=%lu\n", self->name,
-                  (unsigned long)uart_ring_peak(&ring), (unsigned long)uart_ring_dropped(&ring),
-                  (unsigned long)ls->bytes_discarded);
+    if (!record) {
+        (void)fprintf(stderr, "lmsego: %s: queue deepest=%lu dropped=%lu\n", self->name,
+                      (unsigned long)queue.deepest, (unsigned long)queue.dropped);
+    }
     report_session(session, self->name);
     lms_serial_close(&io.port);
     const int close_error = record ? recording_writer_close(&rec) : 0;
