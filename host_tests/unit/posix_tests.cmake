@@ -57,5 +57,8 @@ if(TARGET lmsego)
                 $<TARGET_FILE:lmsego> ${rec_data}/sequences/table2_361_cm.lms
                 ${LMSEGO_REC_OUT_DIR}/table2_361_cm.lmsrec ${LMSEGO_REC_OUT_DIR}/replay)
     set_tests_properties(cli_recording_stats cli_recording_scans_stdin cli_recording_bad
-        cli_recording_bad_replay cli_recording_replay PROPERTIES LABELS "cli" FIXTURES_REQUIRED lmsego_recordings)
+        cli_recording_bad_replay PROPERTIES LABELS "cli" TIMEOUT 60 FIXTURES_REQUIRED lmsego_recordings)
+    # Two whole replays of the Table 2 pair (13 s under ASan): e2e.
+    set_tests_properties(cli_recording_replay PROPERTIES LABELS "cli;e2e" TIMEOUT 300
+        FIXTURES_REQUIRED lmsego_recordings)
 endif()

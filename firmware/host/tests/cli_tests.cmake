@@ -2,6 +2,11 @@
 # firmware/host/CMakeLists.txt. Every test runs tests/run_cli.cmake, which
 # checks the exit code and compares stdout / stderr.
 #
+# Timeouts: 60 s (4 s the slowest seen, under ASan); the tests that replay
+# whole sequences through the estimator (stride, TUM/pairs outputs, frame
+# round trips) 300 s (26 s seen) and the label e2e, which CI runs once,
+# optimised (docs/testing.md); the live tests 180 s.
+#
 # Expected outputs, and where they come from (none is lmsego's own output):
 #   host_tests/data/recordings/*.scans, *.stats  lmsgen's ground truth
 #       (the values it encoded, and the counters its framer-contract model
@@ -28,7 +33,7 @@ function(lmsego_cli_test name)
     add_test(NAME cli_${name}
         COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> ${defs} ${t_OPTIONS}
                 -P ${LMSEGO_CLI_SCRIPT})
-    set_tests_properties(cli_${name} PROPERTIES LABELS "cli")
+    set_tests_properties(cli_${name} PROPERTIES LABELS "cli" TIMEOUT 60)
 endfunction()
 
 # --- help and usage errors --------------------------------------------
@@ -76,7 +81,7 @@ lmsego_cli_test(stats_directory ARGS stats ${LMSEGO_CLI_DATA}
 add_test(NAME cli_vectors_hex
     COMMAND ${CMAKE_COMMAND} -DHEX=${LMSEGO_CLI_DATA}/vectors.hex
             -DBIN=${LMSEGO_CLI_DATA}/vectors.lms -P ${LMSEGO_CLI_DATA}/hex_matches.cmake)
-set_tests_properties(cli_vectors_hex PROPERTIES LABELS "cli")
+set_tests_properties(cli_vectors_hex PROPERTIES LABELS "cli" TIMEOUT 60)
 lmsego_cli_test(vectors_stats ARGS stats ${LMSEGO_CLI_DATA}/vectors.lms
     OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_CLI_DATA}/vectors.stats -DEXPECT_STDERR_EMPTY=ON)
 lmsego_cli_test(vectors_scans ARGS scans ${LMSEGO_CLI_DATA}/vectors.lms
@@ -129,7 +134,7 @@ add_test(NAME cli_replay_pairs_tum
             -DSTREAM=${LMSEGO_SEQ}/fast_361_cm.lms
             -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/replay_outputs
             -P ${LMSEGO_CLI_DATA}/replay_outputs.cmake)
-set_tests_properties(cli_replay_pairs_tum PROPERTIES LABELS "cli")
+set_tests_properties(cli_replay_pairs_tum PROPERTIES LABELS "cli;e2e" TIMEOUT 300)
 lmsego_cli_test(replay_pairs_unwritable ARGS replay --pairs /nonexistent-dir/x.pairs
     ${LMSEGO_SEQ}/table2_361_cm.lms
     OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=x\\.pairs)
@@ -140,7 +145,7 @@ add_test(NAME cli_import_carmen
     COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> -DDATA=${LMSEGO_CARMEN}
             -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/import_carmen
             -P ${LMSEGO_CLI_DATA}/import_carmen.cmake)
-set_tests_properties(cli_import_carmen PROPERTIES LABELS "cli")
+set_tests_properties(cli_import_carmen PROPERTIES LABELS "cli" TIMEOUT 60)
 lmsego_cli_test(import_carmen_missing_log ARGS import-carmen ${LMSEGO_CLI_MISSING} -o ${CMAKE_CURRENT_BINARY_DIR}/x.lms
     OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=no-such-file)
 lmsego_cli_test(import_carmen_no_output ARGS import-carmen ${LMSEGO_CARMEN}/intel_first4.log
@@ -159,7 +164,7 @@ lmsego_cli_test(import_carmen_text_without_lasers ARGS import-carmen ${LMSEGO_CA
 add_test(NAME cli_import_carmen_mm
     COMMAND ${CMAKE_COMMAND} -E env sh -c "\"$0\" import-carmen \"$1\" -o \"$2\" 2>&1 && \"$0\" scans --mode 0F \"$2\""
             $<TARGET_FILE:lmsego> ${LMSEGO_CLI_DATA}/mm.carmen ${CMAKE_CURRENT_BINARY_DIR}/mm.lms)
-set_tests_properties(cli_import_carmen_mm PROPERTIES LABELS "cli"
+set_tests_properties(cli_import_carmen_mm PROPERTIES LABELS "cli" TIMEOUT 60
     PASS_REGULAR_EXPRESSION "unit=mm no_return=9\\.99.*\n0 1 181 1235 0 2000 2000")
 
 # --- stride-K evaluation (import-carmen --stride, replay --scan-step) -------
@@ -167,7 +172,7 @@ add_test(NAME cli_stride
     COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> -DDATA=${LMSEGO_CARMEN}
             -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/stride
             -P ${LMSEGO_CLI_DATA}/stride.cmake)
-set_tests_properties(cli_stride PROPERTIES LABELS "cli")
+set_tests_properties(cli_stride PROPERTIES LABELS "cli;e2e" TIMEOUT 300)
 # Bad K: zero, negative, not a number, trailing junk, too large, missing.
 set(n 0)
 foreach(k 0 -2 abc 2x 100001)
@@ -266,7 +271,7 @@ foreach(stream IN LISTS LMSEGO_FRAME_STREAMS)
         COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> -DSTREAM=${stream}
                 "-DEXTRA=${extra}" -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/frames/${name}
                 -P ${LMSEGO_CLI_DATA}/frames_roundtrip.cmake)
-    set_tests_properties(cli_frames_roundtrip_${name} PROPERTIES LABELS "cli")
+    set_tests_properties(cli_frames_roundtrip_${name} PROPERTIES LABELS "cli;e2e" TIMEOUT 300)
 endforeach()
 lmsego_cli_test(frames_help ARGS frames --help
     OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego\ frames -DEXPECT_STDERR_EMPTY=ON)
