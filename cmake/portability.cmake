@@ -31,4 +31,4 @@ add_test(NAME estimator_standalone
         "-DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/estimator"
         -DOUT_DIR=${CMAKE_BINARY_DIR}/estimator_standalone
         -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
-set_tests_properties(estimator_standalone PROPERTIES LABELS "portability")
+set_tests_properties(estimator_standalone PROPERTIES LABELS "portability" TIMEOUT 120)

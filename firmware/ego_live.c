@@ -101,8 +101,7 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
     live->hal = *hal;
     live->rx = rx;
     live->max_scans = config->max_scans;
-    live->scan_ready = config->scan_ready;
-    live->scan_ready_ctx = config->scan_ready_ctx;
+    live->one_scan_per_service = config->one_scan_per_service;
     live->deferred = config->deferred || !INLINE_ESTIMATOR;
     live->write_slot = 0u;
     atomic_init(&live->middle, 1u);
@@ -171,9 +170,6 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
         live->stats.scans++;
         if (live->deferred || !INLINE_ESTIMATOR) {
             publish(live, t, len, t_us);
-            if (live->scan_ready != NULL) {
-                live->scan_ready(live->scan_ready_ctx);
-            }
         } else {
             /* The values are decoded with the mode the scanner measures in. */
             ego_loop_set_meas_mode(&live->loop, lms_session_info(&live->session)->meas_mode);
@@ -264,7 +260,11 @@ static void service(ego_live_t *live)
         budget -= n;
         fed = true;
         last_arrival_us = arrival_us;
+        const uint32_t scans_before = live->stats.scans;
         feed_chunk(live, n, arrival_us);
+        if (live->one_scan_per_service && live->stats.scans != scans_before) {
+            return; /* the timers when a service drains the ring */
+        }
     }
     /* The timers, after the bytes: a reply that came before its deadline
      * is never taken for a timeout because the loop was late. And when

@@ -74,12 +74,13 @@ typedef struct {
     bool deferred;            /* false: ego_live_step estimates every scan as it comes;
                                  true: the newest scan waits for ego_live_estimate
                                  (see "Deferred mode" below) */
-    /* Deferred mode, optional (NULL on a target): called by the service
-     * each time it put a scan in the mailbox, in the service's context,
-     * for a consumer that keeps its own queue and takes the scan there
-     * (ego_live_take) before a newer one could replace it: `lmsego run`. */
-    void (*scan_ready)(void *ctx);
-    void *scan_ready_ctx;
+    /* Deferred mode: ego_live_service returns as soon as it put a scan in
+     * the mailbox (the rest waits in the ring; the timers run when a
+     * service drains it), so a consumer that keeps its own queue takes
+     * every scan (ego_live_take) before a newer one could replace it:
+     * `lmsego run`. A scan needs more than one ring read, so a service
+     * never puts two. Default off. */
+    bool one_scan_per_service;
 } ego_live_config_t;
 
 /* Session defaults (500 kbaud, scanner's variant and units kept), loop
@@ -151,8 +152,7 @@ typedef struct {
      * EGO_LIVE_FRESH when it holds a scan not yet taken) changes hands by
      * atomic exchange only, so the two never touch the same slot. */
     bool deferred;
-    void (*scan_ready)(void *ctx);
-    void *scan_ready_ctx;
+    bool one_scan_per_service;
     ego_live_slot_t slot[EGO_LIVE_SLOTS];
     atomic_uint_fast8_t middle;
     uint8_t write_slot;

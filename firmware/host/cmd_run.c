@@ -293,22 +293,6 @@ static const ego_live_slot_t *queue_pop(scan_queue_t *q)
     return e;
 }
 
-/* The core's scan_ready: the scan it just put in the mailbox, into the
- * queue (run) or nowhere (record: queue NULL). */
-typedef struct {
-    ego_live_t *core;
-    scan_queue_t *queue;
-} take_t;
-
-static void take_scan(void *ctx)
-{
-    const take_t *t = ctx;
-    const ego_live_slot_t *s = ego_live_take(t->core);
-    if (s != NULL && t->queue != NULL) {
-        queue_push(t->queue, s);
-    }
-}
-
 /* The whole live job; record selects the mode. The host is the firmware's
  * board here, and runs the firmware core (firmware/ego_live.h) in its
  * deferred mode, the code a microcontroller runs: what the port delivers
@@ -316,7 +300,7 @@ static void take_scan(void *ctx)
  * receive interrupt's job on a target), and ego_live_service runs the
  * session at once. The estimator's half differs in one way: where a target
  * estimates only the newest scan, run takes every scan out of the mailbox
- * as it comes (ego_live_take) into its own queue and estimates them in
+ * as it comes (one_scan_per_service, ego_live_take) into its own queue and estimates them in
  * order, one between two reads (ego_live_estimate_slot), so the line and
  * the session's timers are served however long a hard scan takes and no
  * scan is skipped: on a line that loses nothing the output is byte for
@@ -370,11 +354,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     config.loop = o.loop;
     config.max_scans = (uint32_t)o.scans;
     config.deferred = true;
-    static take_t take;
-    take.core = &core;
-    take.queue = record ? NULL : &queue;
-    config.scan_ready = take_scan;
-    config.scan_ready_ctx = &take;
+    config.one_scan_per_service = true;
     const ego_live_hal_t hal = {io_write, io_set_baud, hal_now_us, hal_write, &io};
     uart_ring_init(&ring);
     if (ego_live_init(&core, &config, &hal, &ring) != LMS_OK) {
@@ -437,7 +417,14 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
             }
         }
         (void)uart_ring_write(&ring, buf, got, (uint32_t)read_us);
-        ego_live_service(&core); /* each scan goes to take_scan as it comes */
+        /* Every scan out of the mailbox as the service puts it there. */
+        do {
+            ego_live_service(&core);
+            const ego_live_slot_t *s = ego_live_take(&core);
+            if (s != NULL && !record) {
+                queue_push(&queue, s);
+            }
+        } while (uart_ring_count(&ring) > 0u && ego_live_status(&core) == EGO_LIVE_RUNNING);
         const bool was_streaming = seen.streaming;
         report_changes(self->name, session, &seen);
         /* A recording holds the stream: every read whose bytes the session

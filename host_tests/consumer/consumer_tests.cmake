@@ -46,4 +46,4 @@ add_test(NAME cli_version
     COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego> -DARG1=--version
         -DEXPECT_STDOUT_FILE=${CMAKE_BINARY_DIR}/consumer/cli_version.txt -DEXPECT_STDERR_EMPTY=ON
         -P ${PROJECT_SOURCE_DIR}/firmware/host/tests/run_cli.cmake)
-set_tests_properties(cli_version PROPERTIES LABELS cli)
+set_tests_properties(cli_version PROPERTIES LABELS cli TIMEOUT 30)
