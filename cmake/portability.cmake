@@ -10,25 +10,23 @@ if(NOT LMSEGO_ARM_GCC)
     return()
 endif()
 
+# lmsego_portable_test(NAME SOURCES INCLUDE_DIRS): compile_portable.cmake
+# over SOURCES with only INCLUDE_DIRS (lists) on the path; label
+# portability.
+function(lmsego_portable_test name sources include_dirs)
+    add_test(NAME ${name}
+        COMMAND ${CMAKE_COMMAND} -DCC=${LMSEGO_ARM_GCC} "-DSOURCES=${sources}"
+            "-DINCLUDE_DIRS=${include_dirs}" -DOUT_DIR=${CMAKE_BINARY_DIR}/${name}
+            -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
+    set_tests_properties(${name} PROPERTIES LABELS "portability" TIMEOUT 120)
+endfunction()
+
 set(LMSEGO_PORTABLE_SOURCES ${LMS_DRIVER_SOURCES_ABS} ${LMS_ESTIMATOR_SOURCES_ABS}
     ${EGO_FIRMWARE_SOURCES_ABS} ${PROJECT_SOURCE_DIR}/driver/sim/lms_sim.c)
-add_test(NAME portable_cortex_m3
-    COMMAND ${CMAKE_COMMAND}
-        -DCC=${LMSEGO_ARM_GCC}
-        "-DSOURCES=${LMSEGO_PORTABLE_SOURCES}"
-        "-DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/driver;${PROJECT_SOURCE_DIR}/driver/sim;${PROJECT_SOURCE_DIR}/estimator;${PROJECT_SOURCE_DIR}/firmware"
-        -DOUT_DIR=${CMAKE_BINARY_DIR}/portable_cortex_m3
-        -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
-set_tests_properties(portable_cortex_m3 PROPERTIES LABELS "portability")
+lmsego_portable_test(portable_cortex_m3 "${LMSEGO_PORTABLE_SOURCES}"
+    "${PROJECT_SOURCE_DIR}/driver;${PROJECT_SOURCE_DIR}/driver/sim;${PROJECT_SOURCE_DIR}/estimator;${PROJECT_SOURCE_DIR}/firmware")
 
 # The estimator on its own: its sources compile with nothing on the include
 # path but estimator/ (and the cross compiler's C headers), so it needs no
 # header of the driver or the firmware: any 2-D range sensor can feed it.
-add_test(NAME estimator_standalone
-    COMMAND ${CMAKE_COMMAND}
-        -DCC=${LMSEGO_ARM_GCC}
-        "-DSOURCES=${LMS_ESTIMATOR_SOURCES_ABS}"
-        "-DINCLUDE_DIRS=${PROJECT_SOURCE_DIR}/estimator"
-        -DOUT_DIR=${CMAKE_BINARY_DIR}/estimator_standalone
-        -P ${PROJECT_SOURCE_DIR}/cmake/compile_portable.cmake)
-set_tests_properties(estimator_standalone PROPERTIES LABELS "portability" TIMEOUT 120)
+lmsego_portable_test(estimator_standalone "${LMS_ESTIMATOR_SOURCES_ABS}" "${PROJECT_SOURCE_DIR}/estimator")
