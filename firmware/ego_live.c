@@ -26,12 +26,13 @@ void ego_live_defaults(ego_live_config_t *config)
 
 /* --- Scan times ------------------------------------------------------- */
 
-void ego_live_clock_init(ego_live_clock_t *clock)
+static void clock_init(ego_live_clock_t *clock)
 {
     memset(clock, 0, sizeof *clock);
 }
 
-void ego_live_clock_restart(ego_live_clock_t *clock)
+/* The session restarted: the next scan's time comes from the clock. */
+static void clock_restart(ego_live_clock_t *clock)
 {
     clock->restarted = true;
 }
@@ -42,8 +43,10 @@ static uint32_t framer_damage(const lms_session_t *s)
     return f->crc_errors + f->length_errors + f->truncated;
 }
 
-uint32_t ego_live_clock_scan(ego_live_clock_t *clock, const lms_session_t *session,
-                             uint32_t arrival_us)
+/* The time of a scan the session reported (EV_SCAN) that arrived at
+ * arrival_us: 0 for the first. */
+static uint32_t clock_scan(ego_live_clock_t *clock, const lms_session_t *session,
+                           uint32_t arrival_us)
 {
     const uint32_t interval = lms_session_scan_interval_us(session);
     const uint32_t damaged = framer_damage(session);
@@ -106,13 +109,13 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
     live->write_slot = 0u;
     atomic_init(&live->middle, 1u);
     live->read_slot = 2u;
-    ego_live_clock_init(&live->clock);
+    clock_init(&live->clock);
     live->loop_hal.read = NULL; /* ego_loop_telegram only writes */
     live->loop_hal.write = hal->out_write;
     live->loop_hal.now_us = hal->now_us;
     live->loop_hal.ctx = hal->ctx;
     ego_loop_config_t loop_config = config->loop;
-    loop_config.use_clock = true; /* with the times of ego_live_clock_scan */
+    loop_config.use_clock = true; /* with the times of clock_scan */
     ego_loop_init(&live->loop, &loop_config);
     live->stats.bytes_discarded = (uint32_t)uart_ring_discard(rx); /* from before the session */
     const lms_session_io_t io = {session_write, session_set_baud, live};
@@ -162,7 +165,7 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
     case LMS_SESSION_EV_SCAN: {
         size_t len = 0u;
         const uint8_t *t = lms_session_telegram(&live->session, &len);
-        const uint32_t t_us = ego_live_clock_scan(&live->clock, &live->session, now_us);
+        const uint32_t t_us = clock_scan(&live->clock, &live->session, now_us);
         if (live->max_scans != 0u && live->stats.scans >= live->max_scans) {
             live->stats.scans_ignored++;
             break;
@@ -186,7 +189,7 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
         } else {
             ego_loop_gap(&live->loop);
         }
-        ego_live_clock_restart(&live->clock);
+        clock_restart(&live->clock);
         live->stats.gaps++;
         break;
     case LMS_SESSION_EV_STOPPED:

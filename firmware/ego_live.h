@@ -87,7 +87,7 @@ typedef struct {
  * defaults (CSV), no scan limit. */
 void ego_live_defaults(ego_live_config_t *config);
 
-/* Scan times (see above). Also usable on its own (lmsego run). */
+/* Scan times (see above); private to the core. */
 typedef struct {
     bool started;
     bool restarted;       /* a restart since the last scan */
@@ -95,14 +95,6 @@ typedef struct {
     uint32_t arrival_us;  /* clock at its arrival */
     uint32_t damaged;     /* framer damage counted at the last scan */
 } ego_live_clock_t;
-
-void ego_live_clock_init(ego_live_clock_t *clock);
-/* The session restarted: the next scan's time comes from the clock. */
-void ego_live_clock_restart(ego_live_clock_t *clock);
-/* The time of a scan the session reported (EV_SCAN) that arrived at
- * arrival_us: 0 for the first. */
-uint32_t ego_live_clock_scan(ego_live_clock_t *clock, const lms_session_t *session,
-                             uint32_t arrival_us);
 
 typedef enum {
     EGO_LIVE_RUNNING = 0,

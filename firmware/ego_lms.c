@@ -32,7 +32,6 @@ ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *param
         return EGO_LMS_ERR_ARG;
     }
     memset(out, 0, sizeof *out);
-    out->range_unit_um = 1000u;
     if (lms == NULL || params == NULL || (lms->unit != LMS_UNIT_CM && lms->unit != LMS_UNIT_MM)) {
         return EGO_LMS_ERR_ARG;
     }
@@ -53,7 +52,6 @@ ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *param
     out->first_bearing =
         bearing_from_cdeg(((uint32_t)layout.start_cdeg + CDEG_PER_TURN - CDEG_QUARTER) % CDEG_PER_TURN) +
         EGO_BEARING_Q32(params->mount_theta);
-    out->bearing_step = bearing_from_cdeg(layout.step_cdeg);
-    out->bearing = NULL;
+    out->bearing_step = bearing_from_cdeg(layout.step_cdeg); /* bearing NULL: uniform */
     return EGO_LMS_OK;
 }

@@ -129,8 +129,9 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t arrival_us)
     ego_pose_t prior;
     const bool has_prior = k > 0u && loop->config.prior != NULL &&
                            loop->config.prior(loop->config.prior_ctx, k, &prior);
-    if (ego_lms_to_range(&loop->scan, &loop->config.lms, &loop->range) != EGO_LMS_OK ||
-        ego_process_with_prior(&loop->ego, &loop->config.ego, &loop->range, t_us,
+    ego_range_scan_t range; /* points into loop->scan */
+    if (ego_lms_to_range(&loop->scan, &loop->config.lms, &range) != EGO_LMS_OK ||
+        ego_process_with_prior(&loop->ego, &loop->config.ego, &range, t_us,
                                has_prior ? &prior : NULL, &out) != EGO_OK) {
         loop->stats.decode_errors++;
         return;

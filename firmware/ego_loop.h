@@ -90,7 +90,6 @@ typedef struct {
     ego_loop_config_t config;
     lms_framer_t framer;
     lms_scan_t scan;
-    ego_range_scan_t range;  /* scan as the estimator's input (points into it) */
     ego_state_t ego;
     uint32_t period_us;
     uint32_t first_time_us;

@@ -82,8 +82,6 @@ static void hal_write(void *ctx, const uint8_t *buf, size_t len)
     }
 }
 
-/* The session's writes and rate changes go to the port (io_write,
- * io_set_baud), the motion lines to stdout. */
 static uint32_t hal_now_us(void *ctx)
 {
     const live_io_t *io = ctx;
@@ -300,11 +298,11 @@ static const ego_live_slot_t *queue_pop(scan_queue_t *q)
  * receive interrupt's job on a target), and ego_live_service runs the
  * session at once. The estimator's half differs in one way: where a target
  * estimates only the newest scan, run takes every scan out of the mailbox
- * as it comes (one_scan_per_service, ego_live_take) into its own queue and estimates them in
- * order, one between two reads (ego_live_estimate_slot), so the line and
- * the session's timers are served however long a hard scan takes and no
- * scan is skipped: on a line that loses nothing the output is byte for
- * byte `lmsego replay`'s. record takes the scans and drops them, and
+ * as it comes (one_scan_per_service, ego_live_take) into its own queue and
+ * estimates them in order, one between two reads (ego_live_estimate_slot),
+ * so the line and the session's timers are served however long a hard
+ * scan takes and no scan is skipped: on a line that loses nothing the
+ * output is byte for byte `lmsego replay`'s. record takes the scans and drops them, and
  * writes every read the session took while streaming. */
 static int live(const cli_command_t *self, int argc, char **argv, bool record)
 {
