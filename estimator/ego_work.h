@@ -1,0 +1,70 @@
+/* ego_work.h - the estimator's work meter: a hard, counted budget per scan.
+ *
+ * Every stage of the estimator charges the work it does in units, before
+ * doing it, and a stage that could overrun the limit does not start (it
+ * waits for the next scan's budget, ego.h). The units are counted, not
+ * timed: the same input gives the same count on the host and the target,
+ * so the output stays bit-identical. One unit stands for about one
+ * Cortex-M3 instruction: each cost below is an upper bound of what the
+ * step measured under QEMU (docs/firmware.md, "The work budget"), so a
+ * scan never takes more instructions than the units it was allowed.
+ */
+#ifndef EGO_WORK_H
+#define EGO_WORK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* No limit: the offline mode (`lmsego replay --budget none`). */
+#define EGO_WORK_UNLIMITED UINT64_MAX
+
+typedef struct {
+    uint64_t used;  /* units spent this scan */
+    uint64_t limit; /* units allowed this scan */
+} ego_work_t;
+
+/* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
+#define EGO_COST_PREP_BEAM 700u          /* ego_scan_prepare, per input beam */
+#define EGO_COST_TFIT_PLAIN 1100u        /* one plain tangent fit (one point) */
+#define EGO_COST_TFIT_ROBUST 5500u       /* one robust tangent fit (plain + 2 passes) */
+#define EGO_COST_AH_POINT 250u           /* the AH histogram, per point */
+#define EGO_COST_HTAH_POINT 4000u        /* HTAH, per point with a window ... */
+#define EGO_COST_HTAH_VOTE 150u          /* ... plus per vote cast */
+#define EGO_COST_CORRELATE_PRODUCT 12u   /* histogram correlation, per bin product */
+#define EGO_COST_MATCH_POINT 700u        /* ITCP / coarse probe: one point located */
+#define EGO_COST_MATCH_STEP 30u          /* ... plus per scan point walked past */
+#define EGO_COST_MATCH_SEGMENT 450u      /* ... plus per segment distance computed */
+#define EGO_COST_SOLVE 3000u             /* one closed-form solution (eq. 12) */
+#define EGO_COST_SCAN 20000u             /* per scan: bookkeeping, choosing, the output */
+
+/* The most one located point can cost: its walk on both sides. */
+#define EGO_COST_MATCH_POINT_MAX(walk) \
+    (EGO_COST_MATCH_POINT + 2u * (uint32_t)(walk) * (EGO_COST_MATCH_STEP + EGO_COST_MATCH_SEGMENT))
+
+static inline void ego_work_start(ego_work_t *w, uint64_t limit)
+{
+    w->used = 0u;
+    w->limit = limit;
+}
+
+static inline uint64_t ego_work_left(const ego_work_t *w)
+{
+    return w->limit - w->used;
+}
+
+/* Is there room for `units` more (without spending them). */
+static inline bool ego_work_allows(const ego_work_t *w, uint32_t units)
+{
+    return units <= w->limit - w->used;
+}
+
+/* Spends `units`; the caller checked ego_work_allows for at least as many
+ * before the step. Saturates at the limit (an unlimited meter never
+ * reaches it: 2^64 units). */
+static inline void ego_work_spend(ego_work_t *w, uint32_t units)
+{
+    const uint64_t left = w->limit - w->used;
+    w->used += (units < left) ? units : left;
+}
+
+#endif /* EGO_WORK_H */
