@@ -60,6 +60,7 @@ typedef struct {
     fx_bam32_t ref;          /* middle bearing of the last scan */
     fx_bam32_t main_direction;
     fx_q16_16_t radius;
+    uint32_t *units;         /* the work of the searches is added here (ego_work.h) */
 } matcher_t;
 
 /* Closest point to (qx, qy) on segment j -> j + 1 of the last scan; its
@@ -201,6 +202,7 @@ static bool outside_square(const ego_scan_t *l, uint16_t a, uint16_t b, const sq
  * the radius of the box of the two points). */
 static void consider(const matcher_t *m, const target_t *q, uint16_t j, match_t *best)
 {
+    *m->units += EGO_COST_MATCH_SEGMENT;
     const ego_scan_t *l = m->last;
     const fx_q16_16_t qx = q->x;
     const fx_q16_16_t qy = q->y;
@@ -338,6 +340,7 @@ static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t 
     q->oy = (int64_t)qy - m->last->origin_y;
     q->rel = fx_bam32_diff(fx_atan2(q->oy, q->ox), m->ref);
     q->j0 = lower_bound(m, q->rel, hint);
+    *m->units += EGO_COST_MATCH_POINT;
 }
 
 static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_bam32_t tc)
@@ -369,7 +372,9 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
      * int32; a limit past that range stops nothing). */
     const int32_t above = clamp_s32(q->rel + cone);
     const int32_t below = clamp_s32(q->rel - cone);
+    uint32_t walked = 0u;
     for (uint16_t j = q->j0, k = 0u; j < l->count && k < EGO_ITCP_MAX_WALK; j++, k++) {
+        walked++;
         if (fx_bam32_diff(l->bearing[j], m->ref) > above) {
             break;
         }
@@ -379,6 +384,7 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
     }
     for (uint16_t j = q->j0, k = 0u; j > 0u && k < EGO_ITCP_MAX_WALK; k++) {
         j--;
+        walked++;
         /* The segment j -> j + 1 lies wholly below the cone. With j0 past
          * the last point (the query's bearing beyond the scan), j is that
          * point and has no segment: its own bearing decides. */
@@ -390,6 +396,7 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
             consider(m, &t, j, &best);
         }
     }
+    *m->units += walked * EGO_COST_MATCH_STEP;
     return best;
 }
 
@@ -427,7 +434,7 @@ static bool seen_through(const matcher_t *m, const query_t *q, fx_q16_16_t margi
 
 /* A matcher for single queries (no tangents, no groups) around ref. */
 static void init_matcher(matcher_t *m, const ego_scan_t *last, fx_bam32_t ref,
-                         fx_q16_16_t radius)
+                         fx_q16_16_t radius, uint32_t *units)
 {
     /* Only the gate switch is read by the search: everything else zero. */
     static const itcp_params_t no_gate;
@@ -436,6 +443,7 @@ static void init_matcher(matcher_t *m, const ego_scan_t *last, fx_bam32_t ref,
     m->ref = ref;
     m->main_direction = 0u;
     m->radius = radius;
+    m->units = units;
 }
 
 bool ego_itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx_q16_16_t radius,
@@ -445,7 +453,8 @@ bool ego_itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx
         return false;
     }
     matcher_t m;
-    init_matcher(&m, last, middle_bearing(last), radius);
+    uint32_t units = 0u;
+    init_matcher(&m, last, middle_bearing(last), radius, &units);
     query_t q;
     locate(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     const match_t best = find_match(&m, &q, false, 0u);
@@ -460,7 +469,8 @@ bool ego_itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t q
         return false;
     }
     matcher_t m;
-    init_matcher(&m, last, middle_bearing(last), 0);
+    uint32_t units = 0u;
+    init_matcher(&m, last, middle_bearing(last), 0, &units);
     query_t q;
     locate(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     return seen_through(&m, &q, margin);
@@ -475,6 +485,14 @@ void ego_itcp_prober_init(ego_itcp_prober_t *p, const ego_scan_t *last, fx_q16_1
     p->margin = margin;
     p->radius_sq = (uint64_t)((int64_t)radius * radius);
     p->hint = (last != NULL) ? (uint16_t)(last->count / 2u) : 0u;
+    p->units = 0u;
+}
+
+uint32_t ego_itcp_prober_take_units(ego_itcp_prober_t *p)
+{
+    const uint32_t units = p->units;
+    p->units = 0u;
+    return units;
 }
 
 ego_itcp_probe_t ego_itcp_probe(ego_itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq)
@@ -483,7 +501,7 @@ ego_itcp_probe_t ego_itcp_probe(ego_itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_
         return EGO_ITCP_PROBE_NOTHING;
     }
     matcher_t m;
-    init_matcher(&m, p->last, p->ref, p->radius);
+    init_matcher(&m, p->last, p->ref, p->radius, &p->units);
     query_t q;
     locate(&m, qx, qy, p->hint, &q);
     p->hint = q.j0;
@@ -779,6 +797,8 @@ ego_itcp_status_t ego_itcp_register(const ego_scan_t *last, const ego_scan_t *cu
     m.ref = middle_bearing(last);
     m.main_direction = main_direction & (FX_BAM32_HALF - 1u);
     m.radius = params->radius_start;
+    uint32_t units = 0u;
+    m.units = &units;
     ego_pose_t pose = *initial;
     pass_t pass;
     uint16_t iterations = 0u;

@@ -48,6 +48,7 @@
 #include "ego_pose.h"
 #include "ego_scan.h"
 #include "ego_fx.h"
+#include "ego_work.h"
 
 /* Most last-scan points looked at on each side of a current point. */
 #ifndef EGO_ITCP_MAX_WALK
@@ -158,11 +159,15 @@ typedef struct {
     fx_q16_16_t margin;
     uint64_t radius_sq;
     uint16_t hint;
+    uint32_t units;
 } ego_itcp_prober_t;
 
 void ego_itcp_prober_init(ego_itcp_prober_t *p, const ego_scan_t *last, fx_q16_16_t radius,
                       fx_q16_16_t margin);
 ego_itcp_probe_t ego_itcp_probe(ego_itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_t qy, uint64_t *dist_sq);
+/* The work (ego_work.h units) of the probes since init or the last call;
+ * at most EGO_COST_MATCH_POINT_MAX(EGO_ITCP_MAX_WALK) per probe. */
+uint32_t ego_itcp_prober_take_units(ego_itcp_prober_t *p);
 
 /* Registers current against last from *initial. main_direction is the
  * dominant line direction in the last scan's frame (ego_hist_main_direction). */
