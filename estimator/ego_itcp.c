@@ -43,15 +43,8 @@ static void sums_add(ego_itcp_group_sums_t *s, fx_q16_16_t x, fx_q16_16_t y, fx_
     s->syv += (int64_t)y * v;
 }
 
-/* What one matching pass found. */
-typedef struct {
-    ego_itcp_sums_t sums;
-    uint32_t inliers;
-    uint32_t group_points[2];  /* current points per group, matched or not */
-    uint64_t group_fit[2];     /* sum of (inlier_distance^2 - d^2), inliers only, Q32.32 */
-    uint32_t group_seen_through[2]; /* points where the last scan saw empty space */
-    uint64_t sum_sq; /* of match distances, Q32.32 */
-} pass_t;
+/* What one matching pass found (ego_itcp.h). */
+typedef ego_itcp_pass_t pass_t;
 
 /* Context of a matching pass. */
 typedef struct {
@@ -532,48 +525,6 @@ void ego_itcp_sums_add(ego_itcp_sums_t *sums, bool on_main, fx_q16_16_t x, fx_q1
     sums_add(&sums->group[on_main ? 0 : 1], x, y, u, v);
 }
 
-/* with_free_space: also count the points the last scan saw through
- * (statistics only). */
-static void match_all(const matcher_t *m, const ego_scan_t *cur, const ego_pose_t *pose,
-                      bool with_free_space, pass_t *pass)
-{
-    memset(pass, 0, sizeof *pass);
-    fx_q2_30_t s;
-    fx_q2_30_t c;
-    fx_sincos(pose->theta, &s, &c);
-    const uint64_t inlier_sq =
-        (uint64_t)((int64_t)m->params->inlier_distance * m->params->inlier_distance);
-    uint16_t hint = (uint16_t)(m->last->count / 2u);
-    const uint16_t stride = ego_itcp_sample_stride(cur->count, m->params->max_points);
-    for (uint16_t i = (uint16_t)(stride / 2u); i < cur->count; i = (uint16_t)(i + stride)) {
-        fx_q16_16_t qx;
-        fx_q16_16_t qy;
-        ego_pose_apply(pose, s, c, cur->x[i], cur->y[i], &qx, &qy);
-        const bool has_tc = (cur->flags[i] & EGO_POINT_HAS_TANGENT) != 0u;
-        const fx_bam32_t tc = (cur->tangent[i] + pose->theta) & (FX_BAM32_HALF - 1u);
-        const bool on_main =
-            has_tc && fx_line_angle_diff(tc, m->main_direction) <= m->params->main_tolerance;
-        const unsigned g = on_main ? 0u : 1u;
-        pass->group_points[g]++;
-        query_t q;
-        locate(m, qx, qy, hint, &q);
-        hint = q.j0;
-        if (with_free_space && seen_through(m, &q, 2 * m->params->inlier_distance)) {
-            pass->group_seen_through[g]++;
-        }
-        const match_t best = find_match(m, &q, has_tc, tc);
-        if (!best.found) {
-            continue;
-        }
-        ego_itcp_sums_add(&pass->sums, on_main, cur->x[i], cur->y[i], best.x, best.y);
-        pass->sum_sq += best.dist_sq;
-        if (best.dist_sq <= inlier_sq) {
-            pass->inliers++;
-            pass->group_fit[g] += inlier_sq - best.dist_sq;
-        }
-    }
-}
-
 static int64_t div_round(int64_t a, int64_t b)
 {
     return (a >= 0) ? (a + b / 2) / b : -((-a + b / 2) / b);
@@ -667,9 +618,7 @@ static int64_t abs64(int64_t v)
 
 /* A pose step as a 3-vector in metres (Q16.16): the rotation counts as
  * its arc at ACCEL_ARM_M, so that turning and moving compare. */
-typedef struct {
-    int64_t v[3];
-} step_t;
+typedef ego_itcp_step_t step_t;
 
 /* 2 pi * 8 m * 2^16: binary angle (2^32 a turn) -> arc at 8 m, Q16.16. */
 #define ACCEL_ARC_PER_BAM 3294199
@@ -716,63 +665,299 @@ static bool accelerate(ego_pose_t *pose, const step_t *last_step, const step_t *
     return true;
 }
 
-/* Iterations of match + closed form from *pose, the search radius
- * shrinking from radius_from to radius_floor; at most max_iterations. */
-static ego_itcp_status_t iterate(matcher_t *m, const ego_scan_t *current, const itcp_params_t *params,
-                             bool hold_rotation, fx_q16_16_t radius_from,
-                             fx_q16_16_t radius_floor, uint8_t max_iterations,
-                             ego_pose_t *pose_io, pass_t *pass, uint16_t *iterations,
-                             bool *converged)
+
+/* The phases of a run (ego_itcp_run_t.phase). */
+enum { PHASE_COARSE = 0, PHASE_FINE = 1, PHASE_STATS = 2, PHASE_DONE = 3 };
+
+/* The most steps a run can take: passes (two runs of at most 255
+ * iterations and the statistics pass) of at most one step per point and
+ * the closing step. Bounds ego_itcp_run_step's loop. */
+#define RUN_MAX_STEPS ((2u * 255u + 1u) * ((uint32_t)EGO_MAX_POINTS + 1u))
+
+static void run_matcher(const ego_itcp_run_t *run, uint32_t *units, matcher_t *m)
 {
-    ego_pose_t pose = *pose_io;
-    m->radius = radius_from;
-    step_t last_step = {{0, 0, 0}};
-    bool have_last_step = false;
+    m->last = run->last;
+    m->params = run->params;
+    m->ref = run->ref;
+    m->main_direction = run->main_direction;
+    m->radius = run->radius;
+    m->units = units;
+}
+
+/* A pass at run->pose with run->radius: every stride-th point. */
+static void begin_pass(ego_itcp_run_t *run)
+{
+    memset(&run->pass, 0, sizeof run->pass);
+    fx_sincos(run->pose.theta, &run->sin_theta, &run->cos_theta);
+    run->hint = (uint16_t)(run->last->count / 2u);
+    run->stride = ego_itcp_sample_stride(run->current->count, run->params->max_points);
+    run->next_point = (uint16_t)(run->stride / 2u);
+}
+
+/* Starts a run of iterations from run->pose, the radius shrinking from
+ * radius_from (to radius_min in the first run; radius_fine stays), at most
+ * max_iteration of them (0: none, the caller ends the run). */
+static void begin_iterations(ego_itcp_run_t *run, uint8_t phase, fx_q16_16_t radius_from,
+                             uint8_t max_iteration)
+{
+    run->phase = phase;
+    run->radius = radius_from;
+    run->iteration = 0u;
+    run->max_iteration = max_iteration;
+    memset(&run->last_step, 0, sizeof run->last_step);
+    memset(&run->jump, 0, sizeof run->jump);
+    run->have_last_step = false;
     /* After a jump, a step back means it overshot: no more jumps then, so
      * that jumping and creeping back cannot cycle. */
-    bool may_accelerate = true;
-    bool jumped = false;
-    step_t jump = {{0, 0, 0}};
-    ego_itcp_status_t status = EGO_ITCP_OK;
-    *converged = false;
-    for (uint8_t it = 0u; it < max_iterations; it++) {
-        match_all(m, current, &pose, false, pass);
-        if (pass->sums.group[0].n + pass->sums.group[1].n < params->min_matches) {
-            status = EGO_ITCP_ERR_FEW_MATCHES;
-            break;
-        }
-        const ego_pose_t before = pose;
-        ego_itcp_solve(&pass->sums, params->weighted, hold_rotation, &pose);
-        (*iterations)++;
-        const bool at_min = m->radius <= radius_floor;
-        const bool still =
-            abs64((int64_t)pose.x - before.x) < params->converge_translation &&
-            abs64((int64_t)pose.y - before.y) < params->converge_translation &&
-            abs64(fx_bam32_diff(pose.theta, before.theta)) < (int64_t)params->converge_rotation;
-        if (still && at_min) {
-            *converged = true;
-            break;
-        }
-        /* Accelerate only once the match set has settled (smallest radius). */
-        const step_t step = pose_step(&before, &pose);
-        if (jumped && step_dot(&step, &jump) < 0) {
-            may_accelerate = false;
-        }
-        jumped = false;
-        const ego_pose_t stepped = pose;
-        if (may_accelerate && at_min && have_last_step &&
-            accelerate(&pose, &last_step, &step, pose.theta - before.theta)) {
-            jumped = true;
-            jump = pose_step(&stepped, &pose);
-            have_last_step = false;
-        } else {
-            last_step = step;
-            have_last_step = at_min;
-        }
-        const fx_q16_16_t shrunk = fx_mul_q16_q30(m->radius, params->radius_shrink);
-        m->radius = (shrunk > radius_floor) ? shrunk : radius_floor;
+    run->may_accelerate = true;
+    run->jumped = false;
+    if (max_iteration > 0u) {
+        begin_pass(run);
     }
-    *pose_io = pose;
+}
+
+static void begin_statistics(ego_itcp_run_t *run)
+{
+    /* Statistics at the final pose, with the smallest radius. */
+    run->phase = PHASE_STATS;
+    run->radius = run->params->radius_min;
+    begin_pass(run);
+}
+
+static uint32_t pass_matches(const pass_t *pass)
+{
+    return (uint32_t)(pass->sums.group[0].n + pass->sums.group[1].n);
+}
+
+/* The end of a run of iterations: ok (no pass lacked matches), converged.
+ * After the first run the fine run may follow, after that the statistics. */
+static void end_iterations(ego_itcp_run_t *run, bool ok, bool converged)
+{
+    const itcp_params_t *params = run->params;
+    if (run->phase == PHASE_COARSE) {
+        run->status = (int8_t)(ok ? EGO_ITCP_OK : EGO_ITCP_ERR_FEW_MATCHES);
+        run->converged = converged;
+        const uint8_t fine_iterations =
+            (params->fine_iterations != 0u) ? params->fine_iterations : params->max_iterations;
+        if (ok && converged && params->radius_fine < params->radius_min && fine_iterations > 0u) {
+            /* Converged among the nearby surfaces: now only the close
+             * matches. Wrong partners within radius_min pull every pose
+             * towards no motion (4-15 mm per scan on the 1-degree campus
+             * drive); kept only if it converges too and keeps at least half
+             * of the matches. */
+            run->coarse_pose = run->pose;
+            run->coarse_matches = pass_matches(&run->pass);
+            begin_iterations(run, PHASE_FINE, params->radius_fine, fine_iterations);
+            return;
+        }
+    } else if (!ok || !converged ||
+               2u * pass_matches(&run->pass) < run->coarse_matches) {
+        run->pose = run->coarse_pose; /* the fine run is not kept */
+    }
+    begin_statistics(run);
+}
+
+/* The closing step of an iteration's pass: the closed form from its sums,
+ * convergence, acceleration, the next radius; then the next pass or the
+ * end of the run. */
+static void close_iteration(ego_itcp_run_t *run)
+{
+    const itcp_params_t *params = run->params;
+    if (pass_matches(&run->pass) < params->min_matches) {
+        end_iterations(run, false, false);
+        return;
+    }
+    const fx_q16_16_t radius_floor =
+        (run->phase == PHASE_COARSE) ? params->radius_min : params->radius_fine;
+    ego_pose_t pose = run->pose;
+    const ego_pose_t before = pose;
+    ego_itcp_solve(&run->pass.sums, params->weighted, run->hold_rotation, &pose);
+    run->iterations++;
+    const bool at_min = run->radius <= radius_floor;
+    const bool still =
+        abs64((int64_t)pose.x - before.x) < params->converge_translation &&
+        abs64((int64_t)pose.y - before.y) < params->converge_translation &&
+        abs64(fx_bam32_diff(pose.theta, before.theta)) < (int64_t)params->converge_rotation;
+    if (still && at_min) {
+        run->pose = pose;
+        end_iterations(run, true, true);
+        return;
+    }
+    /* Accelerate only once the match set has settled (smallest radius). */
+    const step_t step = pose_step(&before, &pose);
+    if (run->jumped && step_dot(&step, &run->jump) < 0) {
+        run->may_accelerate = false;
+    }
+    run->jumped = false;
+    const ego_pose_t stepped = pose;
+    if (run->may_accelerate && at_min && run->have_last_step &&
+        accelerate(&pose, &run->last_step, &step, pose.theta - before.theta)) {
+        run->jumped = true;
+        run->jump = pose_step(&stepped, &pose);
+        run->have_last_step = false;
+    } else {
+        run->last_step = step;
+        run->have_last_step = at_min;
+    }
+    run->pose = pose;
+    const fx_q16_16_t shrunk = fx_mul_q16_q30(run->radius, params->radius_shrink);
+    run->radius = (shrunk > radius_floor) ? shrunk : radius_floor;
+    run->iteration++;
+    if (run->iteration >= run->max_iteration) {
+        end_iterations(run, true, false);
+        return;
+    }
+    begin_pass(run);
+}
+
+/* The step of the pass: its next point located, matched and summed.
+ * Returns its work (ego_work.h units). */
+static uint32_t match_next_point(ego_itcp_run_t *run)
+{
+    uint32_t units = 0u;
+    matcher_t m;
+    run_matcher(run, &units, &m);
+    const ego_scan_t *cur = run->current;
+    const itcp_params_t *params = run->params;
+    const uint16_t i = run->next_point;
+    pass_t *pass = &run->pass;
+    const uint64_t inlier_sq = (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
+    fx_q16_16_t qx;
+    fx_q16_16_t qy;
+    ego_pose_apply(&run->pose, run->sin_theta, run->cos_theta, cur->x[i], cur->y[i], &qx, &qy);
+    const bool has_tc = (cur->flags[i] & EGO_POINT_HAS_TANGENT) != 0u;
+    const fx_bam32_t tc = (cur->tangent[i] + run->pose.theta) & (FX_BAM32_HALF - 1u);
+    const bool on_main =
+        has_tc && fx_line_angle_diff(tc, run->main_direction) <= params->main_tolerance;
+    const unsigned g = on_main ? 0u : 1u;
+    pass->group_points[g]++;
+    query_t q;
+    locate(&m, qx, qy, run->hint, &q);
+    run->hint = q.j0;
+    /* The statistics also count the points the last scan saw through. */
+    if (run->phase == PHASE_STATS && seen_through(&m, &q, 2 * params->inlier_distance)) {
+        pass->group_seen_through[g]++;
+    }
+    const match_t best = find_match(&m, &q, has_tc, tc);
+    if (best.found) {
+        ego_itcp_sums_add(&pass->sums, on_main, cur->x[i], cur->y[i], best.x, best.y);
+        pass->sum_sq += best.dist_sq;
+        if (best.dist_sq <= inlier_sq) {
+            pass->inliers++;
+            pass->group_fit[g] += inlier_sq - best.dist_sq;
+        }
+    }
+    const uint32_t next = (uint32_t)i + run->stride;
+    run->next_point = (uint16_t)((next < cur->count) ? next : cur->count);
+    return units;
+}
+
+void ego_itcp_run_start(ego_itcp_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
+                        fx_bam32_t main_direction, const ego_pose_t *initial, bool hold_rotation,
+                        const itcp_params_t *params)
+{
+    if (run == NULL) {
+        return;
+    }
+    memset(run, 0, sizeof *run);
+    run->phase = PHASE_DONE;
+    run->status = (int8_t)EGO_ITCP_ERR_ARG;
+    if (last == NULL || current == NULL || initial == NULL || params == NULL) {
+        return;
+    }
+    run->pose = *initial;
+    run->status = (int8_t)EGO_ITCP_ERR_FEW_MATCHES;
+    if (last->count < 2u || current->count == 0u) {
+        return;
+    }
+    run->last = last;
+    run->current = current;
+    run->params = params;
+    run->ref = middle_bearing(last);
+    run->main_direction = main_direction & (FX_BAM32_HALF - 1u);
+    run->hold_rotation = hold_rotation;
+    run->status = (int8_t)EGO_ITCP_OK;
+    begin_iterations(run, PHASE_COARSE, params->radius_start, params->max_iterations);
+    if (params->max_iterations == 0u) {
+        end_iterations(run, true, false);
+    }
+}
+
+bool ego_itcp_run_step(ego_itcp_run_t *run, ego_work_t *work)
+{
+    if (run == NULL || work == NULL) {
+        return true;
+    }
+    for (uint32_t k = 0u; k < RUN_MAX_STEPS && run->phase != PHASE_DONE; k++) {
+        if (run->next_point < run->current->count) {
+            if (!ego_work_allows(work, EGO_COST_MATCH_POINT_MAX(EGO_ITCP_MAX_WALK))) {
+                return false;
+            }
+            ego_work_spend(work, match_next_point(run));
+        } else {
+            if (!ego_work_allows(work, EGO_COST_SOLVE)) {
+                return false;
+            }
+            if (run->phase == PHASE_STATS) {
+                run->phase = PHASE_DONE; /* ego_itcp_run_result does the arithmetic */
+            } else {
+                close_iteration(run);
+            }
+            ego_work_spend(work, EGO_COST_SOLVE);
+        }
+    }
+    return run->phase == PHASE_DONE;
+}
+
+ego_itcp_status_t ego_itcp_run_result(const ego_itcp_run_t *run, ego_itcp_result_t *result)
+{
+    if (result != NULL) {
+        memset(result, 0, sizeof *result);
+    }
+    if (run == NULL || result == NULL) {
+        return EGO_ITCP_ERR_ARG;
+    }
+    if (run->phase != PHASE_DONE) {
+        return EGO_ITCP_ERR_UNFINISHED;
+    }
+    ego_itcp_status_t status = (ego_itcp_status_t)run->status;
+    result->pose = run->pose;
+    if (run->params == NULL) {
+        return status; /* finished at the start: bad arguments, too few points */
+    }
+    const itcp_params_t *params = run->params;
+    const pass_t *pass = &run->pass;
+    result->iterations = (uint8_t)((run->iterations > 255u) ? 255u : run->iterations);
+    result->converged = run->converged;
+    const uint32_t matches = pass_matches(pass);
+    result->matches = (uint16_t)matches;
+    result->n_main = (uint16_t)pass->sums.group[0].n;
+    result->n_non_main = (uint16_t)pass->sums.group[1].n;
+    result->inliers = (uint16_t)pass->inliers;
+    const uint64_t inlier_sq =
+        (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
+    for (uint8_t g = 0u; g < 2u; g++) {
+        result->group_points[g] = (uint16_t)pass->group_points[g];
+        /* fit / (points * inlier_sq) in Q2.30; fit <= points * inlier_sq
+         * < 2^16 * 2^34 (inlier_distance < 2 m). */
+        /* A point in space the last scan saw empty costs what a perfect
+         * inlier gains. */
+        const uint64_t full = (uint64_t)pass->group_points[g] * inlier_sq;
+        const uint64_t penalty = (uint64_t)pass->group_seen_through[g] * inlier_sq;
+        const uint64_t fit = (pass->group_fit[g] > penalty) ? pass->group_fit[g] - penalty : 0u;
+        result->group_fit[g] =
+            (full == 0u) ? 0 : (fx_q2_30_t)((fit >> 4) * (1ull << 30) / (full >> 4));
+    }
+    if (matches > 0u) {
+        result->residual = (fx_q16_16_t)fx_sqrt_u64(pass->sum_sq / (uint64_t)matches);
+    }
+    /* Aperture: n_non / n_main < ratio, i.e. n_non < ratio * n_main. */
+    result->aperture = pass->sums.group[0].n > 0 &&
+                       ((int64_t)pass->sums.group[1].n << 30) <
+                           (int64_t)params->aperture_ratio * pass->sums.group[0].n;
+    if (status == EGO_ITCP_OK && matches < params->min_matches) {
+        status = EGO_ITCP_ERR_FEW_MATCHES;
+    }
     return status;
 }
 
@@ -781,86 +966,13 @@ ego_itcp_status_t ego_itcp_register(const ego_scan_t *last, const ego_scan_t *cu
                             bool hold_rotation, const itcp_params_t *params,
                             ego_itcp_result_t *result)
 {
-    if (result != NULL) {
-        memset(result, 0, sizeof *result);
-    }
-    if (last == NULL || current == NULL || initial == NULL || params == NULL || result == NULL) {
+    if (result == NULL) {
         return EGO_ITCP_ERR_ARG;
     }
-    result->pose = *initial;
-    if (last->count < 2u || current->count == 0u) {
-        return EGO_ITCP_ERR_FEW_MATCHES;
-    }
-    matcher_t m;
-    m.last = last;
-    m.params = params;
-    m.ref = middle_bearing(last);
-    m.main_direction = main_direction & (FX_BAM32_HALF - 1u);
-    m.radius = params->radius_start;
-    uint32_t units = 0u;
-    m.units = &units;
-    ego_pose_t pose = *initial;
-    pass_t pass;
-    uint16_t iterations = 0u;
-    bool converged = false;
-    ego_itcp_status_t status =
-        iterate(&m, current, params, hold_rotation, params->radius_start, params->radius_min,
-                params->max_iterations, &pose, &pass, &iterations, &converged);
-    if (status == EGO_ITCP_OK && converged && params->radius_fine < params->radius_min) {
-        /* Converged among the nearby surfaces: now only the close matches.
-         * Wrong partners within radius_min pull every pose towards no
-         * motion (4-15 mm per scan on the 1-degree campus drive); kept only
-         * if it converges too and keeps at least half of the matches. */
-        const int64_t coarse_matches = pass.sums.group[0].n + pass.sums.group[1].n;
-        ego_pose_t fine = pose;
-        uint16_t fine_iterations = 0u;
-        bool fine_converged = false;
-        const ego_itcp_status_t fine_status =
-            iterate(&m, current, params, hold_rotation, params->radius_fine, params->radius_fine,
-                    (params->fine_iterations != 0u) ? params->fine_iterations
-                                                    : params->max_iterations,
-                    &fine, &pass, &fine_iterations, &fine_converged);
-        iterations = (uint16_t)(iterations + fine_iterations);
-        if (fine_status == EGO_ITCP_OK && fine_converged &&
-            2 * (pass.sums.group[0].n + pass.sums.group[1].n) >= coarse_matches) {
-            pose = fine;
-        }
-    }
-    result->iterations = (uint8_t)((iterations > 255u) ? 255u : iterations);
-    result->converged = converged;
-    result->pose = pose;
-
-    /* Statistics at the final pose, with the smallest radius. */
-    m.radius = params->radius_min;
-    match_all(&m, current, &pose, true, &pass);
-    const int64_t matches = pass.sums.group[0].n + pass.sums.group[1].n;
-    result->matches = (uint16_t)matches;
-    result->n_main = (uint16_t)pass.sums.group[0].n;
-    result->n_non_main = (uint16_t)pass.sums.group[1].n;
-    result->inliers = (uint16_t)pass.inliers;
-    const uint64_t inlier_sq =
-        (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
-    for (uint8_t g = 0u; g < 2u; g++) {
-        result->group_points[g] = (uint16_t)pass.group_points[g];
-        /* fit / (points * inlier_sq) in Q2.30; fit <= points * inlier_sq
-         * < 2^16 * 2^34 (inlier_distance < 2 m). */
-        /* A point in space the last scan saw empty costs what a perfect
-         * inlier gains. */
-        const uint64_t full = (uint64_t)pass.group_points[g] * inlier_sq;
-        const uint64_t penalty = (uint64_t)pass.group_seen_through[g] * inlier_sq;
-        const uint64_t fit = (pass.group_fit[g] > penalty) ? pass.group_fit[g] - penalty : 0u;
-        result->group_fit[g] =
-            (full == 0u) ? 0 : (fx_q2_30_t)((fit >> 4) * (1ull << 30) / (full >> 4));
-    }
-    if (matches > 0) {
-        result->residual = (fx_q16_16_t)fx_sqrt_u64(pass.sum_sq / (uint64_t)matches);
-    }
-    /* Aperture: n_non / n_main < ratio, i.e. n_non < ratio * n_main. */
-    result->aperture = pass.sums.group[0].n > 0 &&
-                       ((int64_t)pass.sums.group[1].n << 30) <
-                           (int64_t)params->aperture_ratio * pass.sums.group[0].n;
-    if (status == EGO_ITCP_OK && matches < params->min_matches) {
-        status = EGO_ITCP_ERR_FEW_MATCHES;
-    }
-    return status;
+    ego_itcp_run_t run;
+    ego_itcp_run_start(&run, last, current, main_direction, initial, hold_rotation, params);
+    ego_work_t unlimited;
+    ego_work_start(&unlimited, EGO_WORK_UNLIMITED);
+    (void)ego_itcp_run_step(&run, &unlimited);
+    return ego_itcp_run_result(&run, result);
 }

@@ -104,7 +104,8 @@ typedef struct {
 typedef enum {
     EGO_ITCP_OK = 0,
     EGO_ITCP_ERR_ARG = -1,
-    EGO_ITCP_ERR_FEW_MATCHES = -2 /* fewer than min_matches: result holds the last pose */
+    EGO_ITCP_ERR_FEW_MATCHES = -2, /* fewer than min_matches: result holds the last pose */
+    EGO_ITCP_ERR_UNFINISHED = -3   /* ego_itcp_run_result of a run not finished yet */
 } ego_itcp_status_t;
 
 /* The closed form on its own (for tests and the coarse search): matched
@@ -170,10 +171,99 @@ ego_itcp_probe_t ego_itcp_probe(ego_itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_
 uint32_t ego_itcp_prober_take_units(ego_itcp_prober_t *p);
 
 /* Registers current against last from *initial. main_direction is the
- * dominant line direction in the last scan's frame (ego_hist_main_direction). */
+ * dominant line direction in the last scan's frame (ego_hist_main_direction).
+ * The whole run at once: ego_itcp_run_start, ego_itcp_run_step with an
+ * unlimited meter, ego_itcp_run_result. */
 ego_itcp_status_t ego_itcp_register(const ego_scan_t *last, const ego_scan_t *current,
                             fx_bam32_t main_direction, const ego_pose_t *initial,
                             bool hold_rotation, const itcp_params_t *params,
                             ego_itcp_result_t *result);
+
+/* A registration that can be paused between any two steps, for a hard
+ * per-scan work budget (ego_work.h). Its phases: the first run (iterations
+ * with a shrinking radius, accelerated), the fine run (radius_fine), the
+ * statistics pass at the final pose (free space too). Each phase is made
+ * of matching passes, and each pass of steps:
+ *   - one current point located and matched: it costs what its search
+ *     counted (EGO_COST_MATCH_POINT, _STEP, _SEGMENT), at most
+ *     EGO_COST_MATCH_POINT_MAX(EGO_ITCP_MAX_WALK), which the meter must
+ *     allow before the point is started;
+ *   - after the pass's last point, one closing step of EGO_COST_SOLVE: the
+ *     closed form and the convergence bookkeeping (iterations), or the
+ *     result's arithmetic (statistics pass; done by ego_itcp_run_result);
+ *     charged even when the pass had too few matches to solve with.
+ * A pass keeps its sums in the run, so an interrupted pass goes on at its
+ * next point. The counts are the same on every machine: a run gives the
+ * same result and the same total spend however it is cut up.
+ *
+ * RAM: 328 bytes on the Cortex-M3 (336 on x86-64), 192 of them the
+ * pass's sums; no per-point arrays. */
+typedef struct {
+    /* Private: what a matching pass has summed so far. */
+    ego_itcp_sums_t sums;
+    uint32_t inliers;
+    uint32_t group_points[2];       /* current points per group, matched or not */
+    uint64_t group_fit[2];          /* sum of (inlier_distance^2 - d^2), inliers only, Q32.32 */
+    uint32_t group_seen_through[2]; /* points where the last scan saw empty space */
+    uint64_t sum_sq;                /* of match distances, Q32.32 */
+} ego_itcp_pass_t;
+
+typedef struct {
+    /* Private: a pose step as a 3-vector in metres (Q16.16, the rotation
+     * as its arc at 8 m). */
+    int64_t v[3];
+} ego_itcp_step_t;
+
+typedef struct {
+    /* Private: everything ego_itcp_register keeps between passes. */
+    const ego_scan_t *last;
+    const ego_scan_t *current;
+    const itcp_params_t *params;
+    ego_itcp_pass_t pass;        /* the pass in progress, or the last one */
+    ego_itcp_step_t last_step;   /* acceleration: the previous pose step */
+    ego_itcp_step_t jump;        /* ... and the last jump */
+    ego_pose_t pose;             /* the pose the pass matches at */
+    ego_pose_t coarse_pose;      /* the first run's pose while the fine run tries */
+    fx_q2_30_t sin_theta;        /* of pose.theta, for the pass */
+    fx_q2_30_t cos_theta;
+    fx_bam32_t ref;              /* middle bearing of the last scan */
+    fx_bam32_t main_direction;
+    fx_q16_16_t radius;          /* of the pass */
+    uint32_t coarse_matches;     /* of the first run's last pass */
+    uint16_t next_point;         /* the current point the pass takes next */
+    uint16_t stride;             /* between the points of the pass */
+    uint16_t hint;               /* where the next bearing search starts */
+    uint16_t iterations;         /* closed-form solutions, both runs */
+    uint8_t iteration;           /* of the run in progress */
+    uint8_t max_iteration;       /* of the run in progress */
+    uint8_t phase;
+    int8_t status;               /* ego_itcp_status_t of the first run */
+    bool hold_rotation;
+    bool converged;              /* the first run */
+    bool have_last_step;
+    bool may_accelerate;
+    bool jumped;
+} ego_itcp_run_t;
+
+/* Starts a registration of current against last from *initial (as
+ * ego_itcp_register). The run keeps pointers to last, current and params:
+ * they must stay where they are, unchanged, until the run is finished.
+ * Invalid arguments or scans too small give a run that is already
+ * finished (its result says why). */
+void ego_itcp_run_start(ego_itcp_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
+                        fx_bam32_t main_direction, const ego_pose_t *initial, bool hold_rotation,
+                        const itcp_params_t *params);
+
+/* Works on the run until it is finished or the meter cannot pay for the
+ * next step (see above); returns true when finished. Every step is
+ * allowed by the meter before it starts, so work->used never exceeds
+ * work->limit; a meter of at least EGO_COST_MATCH_POINT_MAX(
+ * EGO_ITCP_MAX_WALK) units left always makes progress, one smaller may
+ * make none. A finished run (or run/work NULL) returns true at once. */
+bool ego_itcp_run_step(ego_itcp_run_t *run, ego_work_t *work);
+
+/* The result of a finished run (what ego_itcp_register gives);
+ * EGO_ITCP_ERR_UNFINISHED (result zeroed) before. */
+ego_itcp_status_t ego_itcp_run_result(const ego_itcp_run_t *run, ego_itcp_result_t *result);
 
 #endif /* EGO_ITCP_H */

@@ -356,6 +356,182 @@ static void test_itcp_sample_stride_caps_the_points(void)
     }
 }
 
+/* A registration of the run tests: scans, start and parameters. */
+typedef struct {
+    const synth_wall_t *walls;
+    unsigned nwalls;
+    double dx, dy, dtheta_deg; /* the current scan's pose */
+    double init_err_deg;       /* the initial rotation's error */
+    double init_x;             /* the initial translation */
+    bool weighted;
+    bool hold_rotation;
+    bool tangent_gate;
+    uint16_t max_points;
+} run_case_t;
+
+static const run_case_t g_run_cases[] = {
+    {NULL, 0u, 0.25, 0.20, 8.0, 0.3, 0.0, true, false, false, 0u},
+    {NULL, 0u, 0.10, 0.02, 1.0, 0.3, 0.0, false, false, false, 0u},
+    {NULL, 0u, 0.35, -0.12, -4.0, 0.3, 0.0, true, false, true, 0u},
+    {NULL, 0u, 0.20, -0.10, 2.9, 0.0, 0.0, true, true, false, 0u},
+    {NULL, 0u, 0.35, -0.12, -4.0, 0.3, 0.0, true, false, false, 40u},
+    {NULL, 1u, 0.30, 0.10, 1.1, 0.0, 0.0, true, false, false, 0u}, /* the corridor */
+    {NULL, 0u, 0.0, 0.0, 0.0, 0.0, 50.0, true, false, false, 0u},  /* too far: few matches */
+};
+
+static itcp_params_t g_run_params;
+
+/* Prepares g_last and g_current for case c; *initial and *main_direction
+ * to start from. */
+static void run_case_setup(const run_case_t *c, ego_pose_t *initial, fx_bam32_t *main_direction)
+{
+    const bool corridor = c->nwalls == 1u;
+    const synth_wall_t *walls = corridor ? synth_corridor : synth_room;
+    const unsigned nwalls = corridor ? synth_corridor_walls : synth_room_walls;
+    const double th = c->dtheta_deg * FX_HOST_PI / 180.0;
+    prepared_scan(walls, nwalls, 0.0, 0.0, 0.0, &g_last);
+    prepared_scan(walls, nwalls, c->dx, c->dy, th, &g_current);
+    ego_hist_params_t hp;
+    ego_hist_defaults(&hp);
+    (void)ego_hist_build(&g_last, &hp, &g_hist);
+    *main_direction = ego_hist_main_direction(&g_hist);
+    ego_itcp_defaults(&g_run_params);
+    g_run_params.weighted = c->weighted;
+    g_run_params.tangent_gate = c->tangent_gate;
+    g_run_params.max_points = c->max_points;
+    initial->theta = fx_bam32_from_rad(th + c->init_err_deg * FX_HOST_PI / 180.0);
+    initial->x = fx_q16_16_from_double(c->init_x);
+    initial->y = 0;
+}
+
+static void assert_same_result(const ego_itcp_result_t *a, const ego_itcp_result_t *b)
+{
+    TEST_ASSERT_EQUAL_UINT32(a->pose.theta, b->pose.theta);
+    TEST_ASSERT_EQUAL_INT32(a->pose.x, b->pose.x);
+    TEST_ASSERT_EQUAL_INT32(a->pose.y, b->pose.y);
+    TEST_ASSERT_EQUAL_UINT8(a->iterations, b->iterations);
+    TEST_ASSERT_EQUAL(a->converged, b->converged);
+    TEST_ASSERT_EQUAL(a->aperture, b->aperture);
+    TEST_ASSERT_EQUAL_UINT16(a->matches, b->matches);
+    TEST_ASSERT_EQUAL_UINT16(a->n_main, b->n_main);
+    TEST_ASSERT_EQUAL_UINT16(a->n_non_main, b->n_non_main);
+    TEST_ASSERT_EQUAL_UINT16(a->inliers, b->inliers);
+    TEST_ASSERT_EQUAL_UINT16(a->group_points[0], b->group_points[0]);
+    TEST_ASSERT_EQUAL_UINT16(a->group_points[1], b->group_points[1]);
+    TEST_ASSERT_EQUAL_INT32(a->group_fit[0], b->group_fit[0]);
+    TEST_ASSERT_EQUAL_INT32(a->group_fit[1], b->group_fit[1]);
+    TEST_ASSERT_EQUAL_INT32(a->residual, b->residual);
+}
+
+#define POINT_MAX ((uint64_t)EGO_COST_MATCH_POINT_MAX(EGO_ITCP_MAX_WALK))
+
+static ego_itcp_run_t g_run;
+
+/* A run cut into many small pieces (a meter of just more than one point,
+ * started afresh for every call) gives ego_itcp_register's result, the
+ * meter is never overdrawn, and the pieces add up to what one unlimited
+ * call spends. */
+static void test_itcp_run_in_small_pieces_is_register(void)
+{
+    for (unsigned k = 0u; k < sizeof g_run_cases / sizeof g_run_cases[0]; k++) {
+        const run_case_t *c = &g_run_cases[k];
+        ego_pose_t initial;
+        fx_bam32_t main_direction;
+        run_case_setup(c, &initial, &main_direction);
+        ego_itcp_result_t expected;
+        const ego_itcp_status_t expected_status =
+            ego_itcp_register(&g_last, &g_current, main_direction, &initial, c->hold_rotation,
+                              &g_run_params, &expected);
+
+        ego_itcp_run_start(&g_run, &g_last, &g_current, main_direction, &initial,
+                           c->hold_rotation, &g_run_params);
+        ego_work_t work;
+        ego_work_start(&work, EGO_WORK_UNLIMITED);
+        TEST_ASSERT_TRUE(ego_itcp_run_step(&g_run, &work));
+        const uint64_t total = work.used;
+        ego_itcp_result_t r;
+        TEST_ASSERT_EQUAL_INT(expected_status, ego_itcp_run_result(&g_run, &r));
+        assert_same_result(&expected, &r);
+
+        ego_itcp_run_start(&g_run, &g_last, &g_current, main_direction, &initial,
+                           c->hold_rotation, &g_run_params);
+        TEST_ASSERT_EQUAL_INT(EGO_ITCP_ERR_UNFINISHED, ego_itcp_run_result(&g_run, &r));
+        uint64_t spent = 0u;
+        uint32_t calls = 0u;
+        bool finished = false;
+        while (!finished && calls < 1000000u) {
+            ego_work_start(&work, POINT_MAX + 1u);
+            finished = ego_itcp_run_step(&g_run, &work);
+            TEST_ASSERT_TRUE(work.used <= work.limit);
+            TEST_ASSERT_TRUE(finished || work.used > 0u); /* progress every call */
+            spent += work.used;
+            calls++;
+        }
+        TEST_ASSERT_TRUE(finished);
+        TEST_ASSERT_EQUAL_INT(expected_status, ego_itcp_run_result(&g_run, &r));
+        assert_same_result(&expected, &r);
+        TEST_ASSERT_TRUE(spent == total);
+        char msg[128];
+        (void)snprintf(msg, sizeof msg, "case %u: status %d, %u iterations, %llu units in %u calls",
+                       k, (int)expected_status, (unsigned)r.iterations,
+                       (unsigned long long)total, (unsigned)calls);
+        TEST_MESSAGE(msg);
+        TEST_ASSERT_TRUE(total > 0u);
+        /* A finished run spends nothing more. */
+        ego_work_start(&work, POINT_MAX);
+        TEST_ASSERT_TRUE(ego_itcp_run_step(&g_run, &work));
+        TEST_ASSERT_TRUE(work.used == 0u);
+    }
+}
+
+/* A meter that cannot pay for one point makes no progress: nothing spent
+ * beyond its limit, false, and the run goes on unchanged afterwards. */
+static void test_itcp_run_too_small_a_meter_makes_no_progress(void)
+{
+    ego_pose_t initial;
+    fx_bam32_t main_direction;
+    run_case_setup(&g_run_cases[0], &initial, &main_direction);
+    ego_itcp_result_t expected;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_itcp_register(&g_last, &g_current, main_direction,
+                                                         &initial, false, &g_run_params,
+                                                         &expected));
+    ego_itcp_run_start(&g_run, &g_last, &g_current, main_direction, &initial, false,
+                       &g_run_params);
+    ego_work_t work;
+    for (unsigned k = 0u; k < 3u; k++) {
+        ego_work_start(&work, POINT_MAX - 1u);
+        TEST_ASSERT_FALSE(ego_itcp_run_step(&g_run, &work));
+        TEST_ASSERT_TRUE(work.used == 0u);
+    }
+    /* A meter already partly used: what is left counts. */
+    ego_work_start(&work, POINT_MAX + 5000u);
+    work.used = 5001u;
+    TEST_ASSERT_FALSE(ego_itcp_run_step(&g_run, &work));
+    TEST_ASSERT_TRUE(work.used == 5001u);
+    /* Partway through: one point, then a meter too small again. */
+    ego_work_start(&work, POINT_MAX);
+    TEST_ASSERT_FALSE(ego_itcp_run_step(&g_run, &work));
+    TEST_ASSERT_TRUE(work.used > 0u && work.used <= work.limit);
+    ego_work_start(&work, POINT_MAX - 1u);
+    TEST_ASSERT_FALSE(ego_itcp_run_step(&g_run, &work));
+    TEST_ASSERT_TRUE(work.used == 0u);
+    ego_work_start(&work, 0u);
+    TEST_ASSERT_FALSE(ego_itcp_run_step(&g_run, &work));
+    TEST_ASSERT_TRUE(work.used == 0u);
+    ego_work_start(&work, EGO_WORK_UNLIMITED);
+    TEST_ASSERT_TRUE(ego_itcp_run_step(&g_run, &work));
+    ego_itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_itcp_run_result(&g_run, &r));
+    assert_same_result(&expected, &r);
+    /* Finished at the start: bad arguments, no points. */
+    ego_itcp_run_start(&g_run, NULL, &g_current, 0u, &initial, false, &g_run_params);
+    ego_work_start(&work, 0u);
+    TEST_ASSERT_TRUE(ego_itcp_run_step(&g_run, &work));
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_ERR_ARG, ego_itcp_run_result(&g_run, &r));
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_ERR_ARG, ego_itcp_run_result(NULL, &r));
+    TEST_ASSERT_TRUE(ego_itcp_run_step(NULL, &work));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -368,5 +544,7 @@ int main(void)
     RUN_TEST(test_itcp_nearest_matches_brute_force);
     RUN_TEST(test_itcp_seen_through_is_free_space);
     RUN_TEST(test_itcp_probe_is_nearest_then_free_space);
+    RUN_TEST(test_itcp_run_in_small_pieces_is_register);
+    RUN_TEST(test_itcp_run_too_small_a_meter_makes_no_progress);
     return UNITY_END();
 }
