@@ -684,13 +684,16 @@ static void run_matcher(const ego_itcp_run_t *run, uint32_t *units, matcher_t *m
     m->units = units;
 }
 
-/* A pass at run->pose with run->radius: every stride-th point. */
+/* A pass at run->pose with run->radius: the first run's every stride-th
+ * point (max_points), every point in the fine run and the statistics pass. */
 static void begin_pass(ego_itcp_run_t *run)
 {
     memset(&run->pass, 0, sizeof run->pass);
     fx_sincos(run->pose.theta, &run->sin_theta, &run->cos_theta);
     run->hint = (uint16_t)(run->last->count / 2u);
-    run->stride = ego_itcp_sample_stride(run->current->count, run->params->max_points);
+    run->stride = (run->phase == PHASE_COARSE)
+                      ? ego_itcp_sample_stride(run->current->count, run->params->max_points)
+                      : 1u;
     run->next_point = (uint16_t)(run->stride / 2u);
 }
 

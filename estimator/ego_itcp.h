@@ -73,16 +73,19 @@ typedef struct {
     fx_q16_16_t inlier_distance;     /* for the inlier count, default 0.10 m */
     fx_q2_30_t aperture_ratio;       /* default 0.2 */
     uint16_t min_matches;            /* fewer: the registration fails; default 10 */
-    uint16_t max_points;             /* match at most this many current points, evenly
-                                        spread over the scan order (0: all, the
-                                        default); the bounded profile's work cap */
+    uint16_t max_points;             /* the first run (shrinking radius) matches at most
+                                        this many current points, evenly spread over
+                                        the scan order (0: all, the default); the
+                                        fine run and the statistics pass always match
+                                        every point: coarse points first, every
+                                        point last */
 } itcp_params_t;
 
 void ego_itcp_defaults(itcp_params_t *params);
 
-/* The step between the current points ITCP matches: 1, or with
+/* The step between the current points the first run matches: 1, or with
  * max_points the smallest that takes at most max_points of count; the
- * first is stride / 2. */
+ * first is stride / 2. (The fine run and the statistics pass: 1.) */
 uint16_t ego_itcp_sample_stride(uint16_t count, uint16_t max_points);
 
 typedef struct {

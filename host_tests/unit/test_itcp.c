@@ -334,8 +334,8 @@ static void test_itcp_probe_is_nearest_then_free_space(void)
     TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SEEN_THROUGH] > 0u);
 }
 
-/* The bounded profile's work cap: at most max_points of count, spread
- * over the whole scan. */
+/* The first run's work cap: at most max_points of count, spread over the
+ * whole scan. */
 static void test_itcp_sample_stride_caps_the_points(void)
 {
     TEST_ASSERT_EQUAL_UINT16(1u, ego_itcp_sample_stride(361u, 0u));
@@ -532,6 +532,53 @@ static void test_itcp_run_too_small_a_meter_makes_no_progress(void)
     TEST_ASSERT_TRUE(ego_itcp_run_step(NULL, &work));
 }
 
+/* max_points thins the first run only: the fine run and the statistics
+ * pass take every point. The test reads the run's private fields (radius,
+ * stride) to see which pass takes which points. */
+static void test_itcp_max_points_thins_the_first_run_only(void)
+{
+    ego_pose_t initial;
+    fx_bam32_t main_direction;
+    run_case_setup(&g_run_cases[4], &initial, &main_direction);
+    const uint16_t thinned = ego_itcp_sample_stride(g_current.count, g_run_params.max_points);
+    TEST_ASSERT_TRUE(thinned > 1u);
+    ego_itcp_run_start(&g_run, &g_last, &g_current, main_direction, &initial, false,
+                       &g_run_params);
+    unsigned coarse_passes = 0u;
+    unsigned fine_passes = 0u;
+    bool finished = false;
+    for (uint32_t calls = 0u; !finished && calls < 1000000u; calls++) {
+        ego_work_t work;
+        ego_work_start(&work, POINT_MAX + 1u);
+        if (g_run.radius == g_run_params.radius_fine) {
+            TEST_ASSERT_EQUAL_UINT16(1u, g_run.stride);
+            fine_passes++;
+        } else if (g_run.radius > g_run_params.radius_min) {
+            TEST_ASSERT_EQUAL_UINT16(thinned, g_run.stride);
+            coarse_passes++;
+        }
+        finished = ego_itcp_run_step(&g_run, &work);
+    }
+    TEST_ASSERT_TRUE(finished);
+    TEST_ASSERT_TRUE(coarse_passes > 0u);
+    TEST_ASSERT_TRUE(fine_passes > 0u);
+    ego_itcp_result_t r;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_itcp_run_result(&g_run, &r));
+    TEST_ASSERT_TRUE(r.converged);
+    /* The statistics pass counted every current point. */
+    TEST_ASSERT_EQUAL_UINT16(g_current.count, r.group_points[0] + r.group_points[1]);
+    TEST_ASSERT_TRUE(r.matches > g_run_params.max_points);
+    /* And the pose is as good as with every point throughout. */
+    const double ex = fx_q16_16_to_double(r.pose.x) - g_run_cases[4].dx;
+    const double ey = fx_q16_16_to_double(r.pose.y) - g_run_cases[4].dy;
+    const double et = rad_of(r.pose.theta) * 180.0 / FX_HOST_PI - g_run_cases[4].dtheta_deg;
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "err %.4f %.4f m %.4f deg, %u matches", ex, ey, et,
+                   (unsigned)r.matches);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(ex) < 0.002 && fabs(ey) < 0.002 && fabs(et) < 0.03, msg);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -546,5 +593,6 @@ int main(void)
     RUN_TEST(test_itcp_probe_is_nearest_then_free_space);
     RUN_TEST(test_itcp_run_in_small_pieces_is_register);
     RUN_TEST(test_itcp_run_too_small_a_meter_makes_no_progress);
+    RUN_TEST(test_itcp_max_points_thins_the_first_run_only);
     return UNITY_END();
 }
