@@ -21,7 +21,14 @@ void ego_defaults(ego_params_t *params)
     ego_tfit_defaults(&params->tfit);
     ego_hist_defaults(&params->hist);
     ego_itcp_defaults(&params->itcp);
-    params->use_coarse = true;
+    /* Tracking starts from a prediction good to millimetres at sensor rate
+     * (docs/estimator.md): a 0.3 m first radius, the shrinking iterations
+     * on 60 points, then every point. */
+    ego_itcp_defaults(&params->track);
+    params->track.radius_start = FX_Q16_16_C(0.3);
+    params->track.max_points = 24u;
+    params->track.max_iterations = 6u;
+    params->track.fine_iterations = 1u;
     ego_coarse_defaults(&params->coarse);
     params->coarse_window_first = FX_Q16_16_C(4.0);
     params->coarse_step_first = FX_Q16_16_C(0.2);
@@ -32,35 +39,22 @@ void ego_defaults(ego_params_t *params)
     params->merge_bins = (uint16_t)(EGO_HIST_BINS / 60u);       /* 3 deg */
     params->min_correlation = (fx_q2_30_t)(FX_Q2_30_ONE / 10 * 3);
     params->min_points = 20u;
-    params->max_gap_us = 1000000u;
     params->trust_translation = FX_Q16_16_C(0.10);
+    params->trust_rotation = FX_BAM32_DEG_C(3.0);
     params->prior_margin = (fx_q2_30_t)(FX_Q2_30_ONE / 10);
     params->sweep_steps = 11u;
     params->sweep_step = FX_BAM32_DEG_C(4.0);
-    params->trust_rotation = FX_BAM32_DEG_C(3.0);
-    params->hold_first = true;
-    params->max_candidates = 0u;
-    params->prediction_first = false;
+    /* Unbounded until the budgeted path keeps the accuracy (issue 15,
+     * docs/estimator.md "The work budget"): ego_budget_defaults sets it. */
+    params->work_per_scan = EGO_DEFAULT_WORK_PER_SCAN;
+    params->work_per_s = 0u;
+    params->max_search_scans = 30u;
 }
 
-void ego_defaults_bounded(ego_params_t *params)
+void ego_budget_defaults(ego_params_t *params)
 {
-    ego_defaults(params);
-    params->prep.beam_spacing = FX_BAM32_DEG_C(1.0);
-    params->tfit.passes = 0u;
-    params->hist.kind = EGO_HIST_AH;
-    params->max_rotation_bins = (uint16_t)(EGO_HIST_BINS / 36u); /* 5 deg */
-    params->use_coarse = false;
-    params->sweep_steps = 0u;
-    params->hold_first = false;
-    params->max_candidates = 1u;
-    params->prediction_first = true;
-    params->itcp.radius_start = FX_Q16_16_C(0.15);
-    params->itcp.max_iterations = 6u;
-    params->itcp.fine_iterations = 4u;
-    params->itcp.converge_translation = FX_Q16_16_C(0.0005);
-    params->itcp.converge_rotation = FX_BAM32_DEG_C(0.005);
-    params->itcp.max_points = 40u;
+    params->work_per_scan = EGO_DEFAULT_WORK_PER_SCAN;
+    params->work_per_s = EGO_DEFAULT_WORK_PER_S;
 }
 
 void ego_reset(ego_state_t *state)
@@ -71,13 +65,32 @@ void ego_reset(ego_state_t *state)
     memset(&state->motion, 0, sizeof state->motion);
     state->motion_dt_us = 0u;
     state->predictable = false;
+    state->misses = 0u;
+    state->have_previous = false;
+    state->previous_time_us = 0u;
+    state->refined[0] = false;
+    state->refined[1] = false;
+    state->search.active = false;
 }
 
-/* The last motion scaled to a scan interval of dt_us. */
+/* Does the last motion say anything about an interval of dt_us: it is
+ * known and dt_us is at most MAX_PREDICTION_RATIO times its own interval
+ * (beyond that, constant velocity is a guess: the vehicle may have
+ * stopped, and a scaled-up motion would centre every search far off). */
+#define MAX_PREDICTION_RATIO 4u
+
+static bool motion_known(const ego_state_t *state, uint32_t dt_us)
+{
+    return state->motion_dt_us != 0u &&
+           (uint64_t)dt_us <= (uint64_t)MAX_PREDICTION_RATIO * state->motion_dt_us;
+}
+
+/* The last motion scaled to a scan interval of dt_us (no motion when it
+ * says nothing about it). */
 static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
 {
     ego_pose_t p = {0u, 0, 0};
-    if (state->motion_dt_us == 0u) {
+    if (!motion_known(state, dt_us)) {
         return p;
     }
     const int64_t num = dt_us;
@@ -126,26 +139,6 @@ static void keep_prediction_along(ego_pose_t *pose, const ego_pose_t *predicted,
     pose->y = fx_add_q16(pose->y, fx_mul_q16_q30(along, s));
 }
 
-/* The paper's two ITCP stages from start: translation with the rotation
- * held, then everything. */
-static ego_itcp_status_t register_from(const ego_scan_t *last, const ego_scan_t *current,
-                                   fx_bam32_t main_direction, const ego_pose_t *start,
-                                   const ego_params_t *params, ego_itcp_result_t *r)
-{
-    STAGE(EGO_STAGE_REGISTER);
-    ego_pose_t second = *start;
-    if (params->hold_first) {
-        ego_itcp_result_t held;
-        const ego_itcp_status_t st =
-            ego_itcp_register(last, current, main_direction, start, true, &params->itcp, &held);
-        second = (st == EGO_ITCP_OK) ? held.pose : *start;
-    }
-    const ego_itcp_status_t result =
-        ego_itcp_register(last, current, main_direction, &second, false, &params->itcp, r);
-    STAGE(EGO_STAGE_OTHER);
-    return result;
-}
-
 /* Is one group too small to be judged on its own: under a fifth of the
  * points (a few points' fit is noise, not evidence). */
 static bool groups_lopsided(const ego_itcp_result_t *r)
@@ -192,19 +185,6 @@ static fx_q2_30_t balanced_share(const ego_itcp_result_t *r)
     return (fx_q2_30_t)(((int64_t)r->group_fit[0] + r->group_fit[1]) / 2);
 }
 
-/* The coarse search around centre with cp, then ITCP from what it found. */
-static ego_itcp_status_t search_from(const ego_scan_t *last, const ego_scan_t *current,
-                                 fx_bam32_t main_direction, const ego_pose_t *centre,
-                                 const ego_coarse_params_t *cp, const ego_params_t *params,
-                                 ego_itcp_result_t *r)
-{
-    ego_pose_t found = *centre;
-    uint64_t score = 0u;
-    STAGE(EGO_STAGE_COARSE);
-    ego_coarse_search(last, current, main_direction, centre, cp, &found, &score);
-    return register_from(last, current, main_direction, &found, params, r);
-}
-
 /* Is a registration good enough to stop looking: converged with at least
  * accept (or, for skipping the other rotation candidates, stop) of each
  * group's points as inliers. */
@@ -234,6 +214,497 @@ static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_st
     return a->residual < b->residual;
 }
 
+
+/* ---- The search (ego.h step 3), in steps within the meter. ---- */
+
+enum {
+    SEARCH_REFINE = 0, /* robust tangents and the search's histogram of both scans */
+    SEARCH_CORRELATE,  /* the rotation candidates */
+    SEARCH_CANDIDATES, /* each candidate: from the prediction, then coarse passes */
+    SEARCH_SWEEP,      /* no candidate fits: the rotation sweep */
+    SEARCH_DONE
+};
+
+enum {
+    ATTEMPT_COARSE = 0, /* the coarse search from start */
+    ATTEMPT_HELD,       /* ITCP with the rotation held */
+    ATTEMPT_FREE,       /* ITCP, everything */
+    ATTEMPT_DONE
+};
+
+/* Work of the correlation: per shift, the products of the current
+ * histogram's filled bins (an upper bound of ego_hist_correlate's), and
+ * the peaks. */
+#define COST_CORRELATE_BIN 60u
+
+static uint8_t other_slot(uint8_t slot)
+{
+    return (uint8_t)(1u - slot);
+}
+
+/* An attempt: [the coarse search from start, then] ITCP with the rotation
+ * held, then free (the paper's two stages). */
+static void attempt_begin(ego_state_t *state, const ego_pose_t *start, bool with_coarse,
+                          const ego_coarse_params_t *cp)
+{
+    ego_search_t *se = &state->search;
+    const ego_scan_t *last = &state->slot[state->last];
+    const ego_scan_t *cur = &state->slot[other_slot(state->last)];
+    se->start = *start;
+    se->with_coarse = with_coarse;
+    if (with_coarse) {
+        se->cp = *cp;
+        ego_coarse_start(&se->coarse, last, cur, se->main_direction, start, &se->cp);
+        se->step = ATTEMPT_COARSE;
+    } else {
+        se->step = ATTEMPT_HELD;
+    }
+    se->cursor = 0u; /* the held run is not started yet */
+}
+
+static bool attempt_run(ego_state_t *state, const ego_params_t *params)
+{
+    ego_search_t *se = &state->search;
+    const ego_scan_t *last = &state->slot[state->last];
+    const ego_scan_t *cur = &state->slot[other_slot(state->last)];
+    for (;;) {
+        switch (se->step) {
+        case ATTEMPT_COARSE: {
+            STAGE(EGO_STAGE_COARSE);
+            if (!ego_coarse_step(&se->coarse, &state->work)) {
+                return false;
+            }
+            uint64_t score = 0u;
+            ego_coarse_result(&se->coarse, &se->start, &score);
+            se->step = ATTEMPT_HELD;
+            break;
+        }
+        case ATTEMPT_HELD:
+            STAGE(EGO_STAGE_REGISTER);
+            if (se->cursor == 0u) {
+                ego_itcp_run_start(&state->run, last, cur, se->main_direction, &se->start, true,
+                                   &params->itcp);
+                se->cursor = 1u;
+            }
+            if (!ego_itcp_run_step(&state->run, &state->work)) {
+                return false;
+            }
+            {
+                ego_itcp_result_t held;
+                const ego_itcp_status_t st = ego_itcp_run_result(&state->run, &held);
+                const ego_pose_t second = (st == EGO_ITCP_OK) ? held.pose : se->start;
+                ego_itcp_run_start(&state->run, last, cur, se->main_direction, &second, false,
+                                   &params->itcp);
+            }
+            se->step = ATTEMPT_FREE;
+            break;
+        case ATTEMPT_FREE:
+            STAGE(EGO_STAGE_REGISTER);
+            if (!ego_itcp_run_step(&state->run, &state->work)) {
+                return false;
+            }
+            se->attempt_status = ego_itcp_run_result(&state->run, &se->attempt);
+            se->step = ATTEMPT_DONE;
+            STAGE(EGO_STAGE_OTHER);
+            return true;
+        default:
+            return true;
+        }
+    }
+}
+
+/* Robust tangents and the search's histogram for one slot, a point at a
+ * time; true when done. */
+static bool refine_slot(ego_state_t *state, const ego_params_t *params, uint8_t slot)
+{
+    ego_search_t *se = &state->search;
+    ego_scan_t *scan = &state->slot[slot];
+    if (state->refined[slot]) {
+        return true;
+    }
+    const uint16_t n = scan->count;
+    const bool rebuild = params->hist.kind != EGO_HIST_AH;
+    STAGE(EGO_STAGE_TANGENTS);
+    while (se->cursor < n) {
+        if (!ego_work_allows(&state->work, EGO_COST_TFIT_ROBUST)) {
+            return false;
+        }
+        ego_work_spend(&state->work, EGO_COST_TFIT_ROBUST);
+        ego_tfit_fit_point(scan, &params->tfit, se->cursor);
+        se->cursor++;
+    }
+    STAGE(EGO_STAGE_HISTOGRAM);
+    if (rebuild && se->cursor == n) {
+        memset(&state->hist[slot], 0, sizeof state->hist[slot]);
+    }
+    /* A point casts at most one vote per bin. */
+    const uint32_t most = EGO_COST_HTAH_POINT + EGO_HIST_BINS * EGO_COST_HTAH_VOTE;
+    while (rebuild && se->cursor < 2u * n) {
+        if (!ego_work_allows(&state->work, most)) {
+            return false;
+        }
+        const uint16_t i = (uint16_t)(se->cursor - n);
+        const uint32_t votes = ego_hist_vote(scan, &params->hist, i, (uint16_t)(i + 1u),
+                                             &state->hist[slot]);
+        ego_work_spend(&state->work, EGO_COST_HTAH_POINT + votes * EGO_COST_HTAH_VOTE);
+        se->cursor++;
+    }
+    STAGE(EGO_STAGE_OTHER);
+    state->refined[slot] = true;
+    se->cursor = 0u;
+    return true;
+}
+
+/* The rotation candidates: the prior's rotation, the histogram's peaks,
+ * and the predicted rotation when the histogram is not trustworthy. The
+ * correlation goes a chunk of shifts at a time. */
+static bool correlate(ego_state_t *state, const ego_params_t *params)
+{
+    ego_search_t *se = &state->search;
+    const uint8_t cur = other_slot(state->last);
+    if (se->cursor == 0u) {
+        const fx_bam32_t expected = se->have_prior ? se->predicted.theta : 0u;
+        ego_hist_correlation_start(&se->correlation_run, expected, params->max_rotation_bins,
+                                   params->merge_bins);
+        se->cursor = 1u;
+    }
+    uint32_t filled = 0u;
+    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
+        filled += (state->hist[cur].bin[b] != 0u) ? 1u : 0u;
+    }
+    const uint32_t per_shift = (filled + 2u) * EGO_COST_CORRELATE_PRODUCT;
+    const uint32_t setup = EGO_HIST_BINS * COST_CORRELATE_BIN;
+    STAGE(EGO_STAGE_CORRELATE);
+    for (;;) {
+        if (!ego_work_allows(&state->work, setup + per_shift)) {
+            STAGE(EGO_STAGE_OTHER);
+            return false;
+        }
+        const uint64_t left = ego_work_left(&state->work) - setup;
+        const uint32_t shifts = (left / per_shift > UINT32_MAX) ? UINT32_MAX
+                                                                : (uint32_t)(left / per_shift);
+        const uint32_t all = ego_hist_correlation_shifts(&se->correlation_run);
+        const uint32_t now = (shifts < all) ? shifts : all;
+        ego_work_spend(&state->work, setup + now * per_shift);
+        if (ego_hist_correlation_step(&se->correlation_run, &state->hist[cur],
+                                      &state->hist[state->last], now)) {
+            break;
+        }
+    }
+    STAGE(EGO_STAGE_OTHER);
+    se->cursor = 0u;
+    ego_hist_match_t hm;
+    ego_hist_correlation_result(&se->correlation_run, &hm);
+    uint8_t n = 0u;
+    if (se->have_prior) {
+        se->rotation[n] = se->predicted.theta;
+        se->correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+        n++;
+    }
+    for (uint8_t k = 0u; k < hm.count; k++) {
+        se->rotation[n] = hm.candidate[k].rotation;
+        se->correlation[n] = hm.candidate[k].correlation;
+        n++;
+    }
+    if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
+        se->flags |= EGO_FLAG_LOW_CORRELATION;
+        if (!se->have_prior) {
+            se->rotation[n] = se->predicted.theta;
+            se->correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
+            n++;
+        }
+    }
+    se->n = n;
+    se->main_direction = ego_hist_main_direction(&state->hist[state->last]);
+    return true;
+}
+
+static void candidate_begin(ego_state_t *state)
+{
+    ego_search_t *se = &state->search;
+    const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
+    attempt_begin(state, &start, false, NULL);
+}
+
+/* After a candidate's attempt: the next coarse pass (around the
+ * prediction, then over the wide window), or the verdict on it. */
+static void candidate_next(ego_state_t *state, const ego_params_t *params)
+{
+    ego_search_t *se = &state->search;
+    if (!se->with_coarse) {
+        se->candidate = se->attempt;
+        se->candidate_status = se->attempt_status;
+        se->pass = (uint8_t)(se->have_prediction ? 0u : 1u);
+        se->pass_end = (uint8_t)(se->have_prior ? 1u : 2u);
+    } else {
+        if (better(se->attempt_status, &se->attempt, se->candidate_status, &se->candidate, 0)) {
+            se->candidate = se->attempt;
+            se->candidate_status = se->attempt_status;
+        }
+        se->pass++;
+    }
+    if (se->pass < se->pass_end &&
+        !good_enough(params, se->candidate_status, &se->candidate, false)) {
+        ego_coarse_params_t cp = params->coarse;
+        if (se->pass == 1u && se->known_motion) {
+            cp.window = params->coarse_window_wide;
+        } else if (se->pass == 1u) { /* nothing known: wider, coarser */
+            cp.window = params->coarse_window_first;
+            cp.step = params->coarse_step_first;
+        }
+        const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
+        attempt_begin(state, &start, true, &cp);
+        return;
+    }
+    se->tried++;
+    /* Another rotation replaces the prior's only if clearly better. */
+    const bool against_prior = se->have_prior && se->best_k == 0u && se->best_status == EGO_ITCP_OK;
+    if (better(se->candidate_status, &se->candidate, se->best_status, &se->best,
+               against_prior ? params->prior_margin : 0)) {
+        se->best = se->candidate;
+        se->best_status = se->candidate_status;
+        se->best_k = se->k;
+    }
+    se->k++;
+    if (se->k < se->n && !good_enough(params, se->best_status, &se->best, true)) {
+        candidate_begin(state);
+        return;
+    }
+    se->stage = SEARCH_SWEEP;
+    se->step = ATTEMPT_DONE;
+}
+
+/* Works on the search until it is done (true) or the meter runs dry. */
+static bool search_run(ego_state_t *state, const ego_params_t *params)
+{
+    ego_search_t *se = &state->search;
+    for (;;) {
+        switch (se->stage) {
+        case SEARCH_REFINE:
+            if (!refine_slot(state, params, state->last) ||
+                !refine_slot(state, params, other_slot(state->last))) {
+                return false;
+            }
+            se->stage = SEARCH_CORRELATE;
+            break;
+        case SEARCH_CORRELATE:
+            if (!correlate(state, params)) {
+                return false;
+            }
+            se->stage = SEARCH_CANDIDATES;
+            se->k = 0u;
+            candidate_begin(state);
+            break;
+        case SEARCH_CANDIDATES:
+            if (!attempt_run(state, params)) {
+                return false;
+            }
+            candidate_next(state, params);
+            break;
+        case SEARCH_SWEEP:
+            /* Last resort, without a prior: no candidate fits. The
+             * histogram's peaks can all be wrong where few walls are seen
+             * (its correlation is broad and has one maximum); sweep the
+             * rotation instead. */
+            if (se->step == ATTEMPT_DONE) {
+                if (se->have_prior || params->sweep_steps == 0u ||
+                    good_enough(params, se->best_status, &se->best, false)) {
+                    se->stage = SEARCH_DONE;
+                    break;
+                }
+                ego_coarse_params_t cp = params->coarse;
+                cp.window = se->known_motion ? params->coarse_window_wide : params->coarse_window_first;
+                cp.step = params->coarse_step_first;
+                cp.rotation_steps = params->sweep_steps;
+                cp.rotation_step = params->sweep_step;
+                attempt_begin(state, &se->predicted, true, &cp);
+            }
+            if (!attempt_run(state, params)) {
+                return false;
+            }
+            se->tried++;
+            if (better(se->attempt_status, &se->attempt, se->best_status, &se->best, 0)) {
+                se->best = se->attempt;
+                se->best_status = se->attempt_status;
+                se->best_k = se->n; /* no histogram candidate */
+                se->correlation[se->n] = 0;
+            }
+            se->stage = SEARCH_DONE;
+            break;
+        default:
+            return true;
+        }
+    }
+}
+
+static void search_begin(ego_state_t *state, uint32_t time_us, uint32_t dt,
+                         const ego_pose_t *predicted, bool have_prior, bool have_prediction)
+{
+    const bool known_motion = motion_known(state, dt);
+    ego_search_t *se = &state->search;
+    memset(se, 0, sizeof *se);
+    se->active = true;
+    se->stage = SEARCH_REFINE;
+    se->time_us = time_us;
+    se->dt_us = dt;
+    se->predicted = *predicted;
+    se->have_prior = have_prior;
+    se->have_prediction = have_prediction;
+    se->known_motion = known_motion;
+    se->best_status = EGO_ITCP_ERR_FEW_MATCHES;
+}
+
+/* ---- The output. ---- */
+
+/* The output of a registration r (status st) from the prediction. */
+static bool output_match(ego_itcp_status_t st, const ego_itcp_result_t *r, bool have_prediction,
+                         const ego_pose_t *predicted, fx_bam32_t main_direction,
+                         ego_output_t *out)
+{
+    if (st != EGO_ITCP_OK) {
+        return false;
+    }
+    out->pose = r->pose;
+    out->iterations = r->iterations;
+    out->matches = r->matches;
+    out->n_main = r->n_main;
+    out->n_non_main = r->n_non_main;
+    out->inliers = r->inliers;
+    out->residual = r->residual;
+    if (r->aperture) {
+        /* Along a corridor the scans cannot tell how far the vehicle
+         * went: keep the measured motion across the main direction and
+         * take the predicted one along it, if there is a prediction worth
+         * the name (else the match's own guess). */
+        out->flags |= EGO_FLAG_APERTURE;
+        if (have_prediction) {
+            keep_prediction_along(&out->pose, predicted, main_direction);
+        }
+    }
+    out->flags |= r->converged ? 0u : EGO_FLAG_NOT_CONVERGED;
+    return true;
+}
+
+/* The scan in slot cur becomes the last one, with the motion out->pose
+ * (over out->dt_us) from a tracked match, another match (matched) or
+ * none. Whether that motion predicts the next one: a tracked motion does;
+ * any other when it came out close to its prediction. When a trusted
+ * prediction misses once (a jump, a hard scan), the motion before it keeps
+ * predicting; twice in a row, the motion has changed. */
+static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur, uint32_t time_us,
+                    const ego_output_t *out, bool tracked, bool matched,
+                    const ego_pose_t *predicted, bool had_prediction)
+{
+    const bool close = matched && close_to(&out->pose, predicted, params);
+    if (!tracked && matched && had_prediction && !close && state->misses == 0u) {
+        state->misses = 1u;
+    } else {
+        state->motion = out->pose;
+        state->motion_dt_us = out->dt_us;
+        state->predictable = tracked || close;
+        state->misses = 0u;
+    }
+    state->last = cur;
+    state->last_time_us = time_us;
+}
+
+static void finish_search(ego_state_t *state, const ego_params_t *params, bool recovered,
+                          ego_output_t *out)
+{
+    ego_search_t *se = &state->search;
+    out->flags |= se->flags;
+    out->candidates = se->tried;
+    out->dt_us = se->dt_us;
+    const bool matched = output_match(se->best_status, &se->best, se->have_prediction,
+                                      &se->predicted, se->main_direction, out);
+    if (matched) {
+        out->correlation = se->correlation[se->best_k];
+    } else {
+        out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
+        out->pose = se->predicted;
+    }
+    if (recovered) {
+        out->flags |= EGO_FLAG_RECOVERED;
+    }
+    out->points = state->slot[other_slot(state->last)].count;
+    set_velocities(out);
+    se->active = false;
+    advance(state, params, other_slot(state->last), se->time_us, out, false, matched,
+            &se->predicted, se->have_prediction);
+}
+
+static void finish_output(ego_state_t *state, ego_output_t *out, uint32_t time_us)
+{
+    out->work = (state->work.used > UINT32_MAX) ? UINT32_MAX : (uint32_t)state->work.used;
+    out->work_limit = (state->work.limit > UINT32_MAX) ? UINT32_MAX : (uint32_t)state->work.limit;
+    state->have_previous = true;
+    state->previous_time_us = time_us;
+}
+
+/* ---- One scan. ---- */
+
+/* The scan's budget: work_per_scan plus its interval since the previous
+ * scan times work_per_s; unlimited without a rate or an interval (the first scan only
+ * prepares itself). */
+static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uint32_t time_us)
+{
+    if (params->work_per_s == 0u || !state->have_previous) {
+        return EGO_WORK_UNLIMITED;
+    }
+    const uint64_t interval = time_us - state->previous_time_us;
+    return params->work_per_scan + interval * params->work_per_s / US_PER_S;
+}
+
+/* Prepares the scan into slot cur with its plain tangents and AH
+ * histogram; false (nothing changed) when the budget cannot pay for it. */
+static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
+                    uint8_t cur)
+{
+    const uint32_t cost =
+        (uint32_t)scan->count * (EGO_COST_PREP_BEAM + EGO_COST_TFIT_PLAIN + EGO_COST_AH_POINT);
+    if (!ego_work_allows(&state->work, cost)) {
+        return false;
+    }
+    ego_work_spend(&state->work, cost);
+    ego_scan_t *current = &state->slot[cur];
+    STAGE(EGO_STAGE_PREPARE);
+    (void)ego_scan_prepare(scan, &params->prep, current);
+    STAGE(EGO_STAGE_TANGENTS);
+    ego_tfit_params_t plain = params->tfit;
+    plain.passes = 0u;
+    ego_tfit_fit_scan(current, &plain);
+    STAGE(EGO_STAGE_HISTOGRAM);
+    ego_hist_params_t ah = params->hist;
+    ah.kind = EGO_HIST_AH;
+    (void)ego_hist_build(current, &ah, &state->hist[cur]);
+    STAGE(EGO_STAGE_OTHER);
+    state->refined[cur] = params->hist.kind == EGO_HIST_AH && params->tfit.passes == 0u;
+    return true;
+}
+
+/* Tracking (ego.h step 2): true when it found the motion. */
+static bool track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
+                  const ego_pose_t *predicted, ego_output_t *out)
+{
+    const ego_scan_t *last = &state->slot[state->last];
+    const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
+    STAGE(EGO_STAGE_REGISTER);
+    /* Unbounded (offline), tracking registers as the search does. */
+    const itcp_params_t *tp = (params->work_per_s == 0u) ? &params->itcp : &params->track;
+    ego_itcp_run_start(&state->run, last, &state->slot[cur], main_direction, predicted, false, tp);
+    const bool done = ego_itcp_run_step(&state->run, &state->work);
+    STAGE(EGO_STAGE_OTHER);
+    if (!done) {
+        return false;
+    }
+    ego_itcp_result_t r;
+    const ego_itcp_status_t st = ego_itcp_run_result(&state->run, &r);
+    if (!good_enough(params, st, &r, false)) {
+        return false;
+    }
+    return output_match(st, &r, true, predicted, main_direction, out);
+}
+
 ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                          uint32_t time_us, ego_output_t *out)
 {
@@ -247,185 +718,82 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     if (state == NULL || params == NULL || scan == NULL || out == NULL) {
         return EGO_ERR_ARG;
     }
-    memset(out, 0, sizeof *out);
-    const uint8_t cur = state->have_last ? (uint8_t)(1u - state->last) : state->last;
-    ego_scan_t *current = &state->slot[cur];
-    STAGE(EGO_STAGE_PREPARE);
-    if (ego_scan_prepare(scan, &params->prep, current) != EGO_PREP_OK) {
-        STAGE(EGO_STAGE_OTHER);
+    if (!ego_range_check(scan)) {
         return EGO_ERR_SCAN;
     }
-    STAGE(EGO_STAGE_TANGENTS);
-    if (params->hist.kind == EGO_HIST_HTAH || params->use_coarse || params->itcp.tangent_gate) {
-        ego_tfit_fit_scan(current, &params->tfit);
-    } else {
-        /* Only ITCP's sample of the points needs a tangent (its groups). */
-        const uint16_t stride = ego_itcp_sample_stride(current->count, params->itcp.max_points);
-        ego_tfit_fit_scan_sample(current, &params->tfit, (uint16_t)(stride / 2u), stride);
+    memset(out, 0, sizeof *out);
+    ego_work_start(&state->work, budget(state, params, time_us));
+
+    if (state->search.active) {
+        /* Not prepared: both slots belong to the search. */
+        state->search.scans++;
+        if (search_run(state, params)) {
+            finish_search(state, params, true, out);
+        } else if (state->search.scans >= params->max_search_scans) {
+            state->search.active = false; /* too long: start over */
+            state->have_last = false;
+            out->flags = EGO_FLAG_RECOVERING;
+        } else {
+            out->flags = EGO_FLAG_RECOVERING;
+        }
+        finish_output(state, out, time_us);
+        return EGO_OK;
     }
-    STAGE(EGO_STAGE_HISTOGRAM);
-    (void)ego_hist_build(current, &params->hist, &state->hist[cur]);
-    STAGE(EGO_STAGE_OTHER);
+
+    const uint8_t cur = state->have_last ? other_slot(state->last) : state->last;
+    if (!prepare(state, params, scan, cur)) {
+        /* Skipped: the next motion spans it. */
+        out->flags = EGO_FLAG_RECOVERING;
+        finish_output(state, out, time_us);
+        return EGO_OK;
+    }
+    const ego_scan_t *current = &state->slot[cur];
     out->points = current->count;
 
     const uint32_t dt = time_us - state->last_time_us;
-    if (!state->have_last || dt == 0u || dt > params->max_gap_us) {
+    if (!state->have_last || dt == 0u) {
         out->flags = EGO_FLAG_FIRST;
         state->have_last = true;
         state->last = cur;
         state->last_time_us = time_us;
         memset(&state->motion, 0, sizeof state->motion);
         state->motion_dt_us = 0u;
+        state->predictable = false;
+        state->misses = 0u;
+        finish_output(state, out, time_us);
         return EGO_OK;
     }
     out->dt_us = dt;
     const ego_scan_t *last = &state->slot[state->last];
     const ego_pose_t predicted = (prior != NULL) ? *prior : predict(state, dt);
-    /* The last motion predicts this one only if it predicted the last. */
-    const bool known_motion = state->motion_dt_us != 0u;
-    const bool have_prediction = prior != NULL || (known_motion && state->predictable);
+    const bool have_prediction = prior != NULL || (motion_known(state, dt) && state->predictable);
 
-    bool matched = false;
-    if (current->count >= params->min_points && last->count >= params->min_points) {
-        /* Candidates: the prior's rotation (or, with prediction_first, a
-         * trusted prediction's), the histogram's peaks, plus the predicted
-         * rotation when the histogram is not trustworthy. */
-        fx_bam32_t rotation[EGO_HIST_MAX_CANDIDATES + 3u]; /* + prior, prediction, sweep */
-        fx_q2_30_t correlation[EGO_HIST_MAX_CANDIDATES + 3u];
-        uint8_t n = 0u;
-        const bool prediction_first = prior == NULL && have_prediction && params->prediction_first;
-        if (prior != NULL || prediction_first) {
-            rotation[n] = predicted.theta;
-            correlation[n] = 0;
-            n++;
-        }
-        /* The histogram only when its candidates can be tried. */
-        if (params->max_candidates == 0u || n < params->max_candidates) {
-            ego_hist_match_t hm;
-            /* Around the prior's rotation, if any. */
-            const fx_bam32_t expected = (prior != NULL) ? prior->theta : 0u;
-            STAGE(EGO_STAGE_CORRELATE);
-            ego_hist_correlate(&state->hist[cur], &state->hist[state->last], expected,
-                           params->max_rotation_bins, params->merge_bins, &hm);
-            STAGE(EGO_STAGE_OTHER);
-            if (n > 0u) {
-                correlation[0] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
-            }
-            for (uint8_t k = 0u; k < hm.count; k++) {
-                rotation[n] = hm.candidate[k].rotation;
-                correlation[n] = hm.candidate[k].correlation;
-                n++;
-            }
-            if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
-                out->flags |= EGO_FLAG_LOW_CORRELATION;
-                if (prior == NULL && !prediction_first) {
-                    rotation[n] = predicted.theta;
-                    correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
-                    n++;
-                }
-            }
-        }
-        const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
-        ego_itcp_result_t best;
-        ego_itcp_status_t best_status = EGO_ITCP_ERR_FEW_MATCHES;
-        memset(&best, 0, sizeof best);
-        uint8_t best_k = 0u;
-        uint8_t tried = 0u;
-        if (params->max_candidates != 0u && n > params->max_candidates) {
-            n = params->max_candidates;
-        }
-        for (uint8_t k = 0u; k < n && !good_enough(params, best_status, &best, true);
-             k++) {
-            ego_itcp_result_t r;
-            const ego_pose_t start = {rotation[k], predicted.x, predicted.y};
-            ego_itcp_status_t st = register_from(last, current, main_direction, &start, params, &r);
-            /* Cheap first: from the prediction. The coarse search only when
-             * that did not give a good match: around the prediction, and
-             * if that is still not good, over the wide window. */
-            if (params->use_coarse) {
-                for (unsigned pass = have_prediction ? 0u : 1u;
-                     pass < ((prior != NULL) ? 1u : 2u) && !good_enough(params, st, &r, false);
-                     pass++) {
-                    ego_coarse_params_t cp = params->coarse;
-                    if (pass == 1u && known_motion) {
-                        cp.window = params->coarse_window_wide;
-                    } else if (pass == 1u) { /* nothing known: wider, coarser */
-                        cp.window = params->coarse_window_first;
-                        cp.step = params->coarse_step_first;
-                    }
-                    ego_itcp_result_t rc;
-                    const ego_itcp_status_t stc =
-                        search_from(last, current, main_direction, &start, &cp, params, &rc);
-                    if (better(stc, &rc, st, &r, 0)) {
-                        r = rc;
-                        st = stc;
-                    }
-                }
-            }
-            tried++;
-            /* Another rotation replaces the prior's only if clearly better. */
-            const bool against_prior = prior != NULL && best_k == 0u && best_status == EGO_ITCP_OK;
-            if (better(st, &r, best_status, &best, against_prior ? params->prior_margin : 0)) {
-                best = r;
-                best_status = st;
-                best_k = k;
-            }
-        }
-        /* Last resort, without a prior: no candidate fits. The histogram's
-         * peaks can all be wrong where few walls are seen (its correlation
-         * is broad and has one maximum); sweep the rotation instead. */
-        if (prior == NULL && params->use_coarse && params->sweep_steps > 0u &&
-            !good_enough(params, best_status, &best, false)) {
-            ego_coarse_params_t cp = params->coarse;
-            cp.window = known_motion ? params->coarse_window_wide : params->coarse_window_first;
-            cp.step = params->coarse_step_first;
-            cp.rotation_steps = params->sweep_steps;
-            cp.rotation_step = params->sweep_step;
-            ego_itcp_result_t r;
-            const ego_itcp_status_t st =
-                search_from(last, current, main_direction, &predicted, &cp, params, &r);
-            tried++;
-            if (better(st, &r, best_status, &best, 0)) {
-                best = r;
-                best_status = st;
-                best_k = n; /* no histogram candidate */
-                correlation[n] = 0;
-            }
-        }
-        out->candidates = tried;
-        if (best_status == EGO_ITCP_OK) {
-            matched = true;
-            out->pose = best.pose;
-            out->iterations = best.iterations;
-            out->matches = best.matches;
-            out->n_main = best.n_main;
-            out->n_non_main = best.n_non_main;
-            out->inliers = best.inliers;
-            out->residual = best.residual;
-            out->correlation = correlation[best_k];
-            if (best.aperture) {
-                /* Along a corridor the scans cannot tell how far the vehicle
-                 * went: keep the measured motion across the main direction
-                 * and take the predicted one along it, if there is a
-                 * prediction worth the name (else the match's own guess). */
-                out->flags |= EGO_FLAG_APERTURE;
-                if (have_prediction) {
-                    keep_prediction_along(&out->pose, &predicted, main_direction);
-                }
-            }
-            out->flags |= best.converged ? 0u : EGO_FLAG_NOT_CONVERGED;
-        }
-    }
-    if (!matched) {
+    if (current->count < params->min_points || last->count < params->min_points) {
         out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
         out->pose = predicted;
+        set_velocities(out);
+        advance(state, params, cur, time_us, out, false, false, &predicted, have_prediction);
+        finish_output(state, out, time_us);
+        return EGO_OK;
     }
-    set_velocities(out);
-
-    state->predictable = matched && close_to(&out->pose, &predicted, params);
-    state->motion = out->pose;
-    state->motion_dt_us = dt;
-    state->last = cur;
-    state->last_time_us = time_us;
+    /* Without a prediction, tracking from it (no motion, or the last one
+     * scaled) is still the cheapest try: it stands only if it fits as well
+     * as a tracked motion must. */
+    if (track(state, params, cur, &predicted, out)) {
+        set_velocities(out);
+        advance(state, params, cur, time_us, out, true, true, &predicted, true);
+        finish_output(state, out, time_us);
+        return EGO_OK;
+    }
+    memset(out, 0, sizeof *out);
+    out->points = current->count;
+    search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction);
+    if (search_run(state, params)) {
+        finish_search(state, params, false, out);
+    } else {
+        state->search.scans = 1u;
+        out->flags = EGO_FLAG_RECOVERING;
+    }
+    finish_output(state, out, time_us);
     return EGO_OK;
 }

@@ -1,44 +1,50 @@
 /* ego.h - the whole estimator: one range scan (ego_range.h) in, the
- * vehicle's ego-motion since the previous scan out (paper section 2.2, with the additions of
- * docs/estimator.md).
+ * vehicle's ego-motion since the previous scan out (paper section 2.2, with
+ * the additions of docs/estimator.md), within a hard work budget per scan.
  *
- * Per scan:
- *  1. prepare the points (ego_scan.h) and their robust tangents (ego_tfit.h);
- *  2. build the current scan's angle histogram (ego_hist.h, HTAH by default)
- *     and correlate it with the last scan's: up to EGO_HIST_MAX_CANDIDATES
- *     rotation candidates, best first;
- *  3. for each candidate, best first: ITCP with the rotation held
- *     (translation only) from the predicted motion (the prior if given,
- *     else the last motion), then full ITCP (ego_itcp.h). When that is not
- *     good enough (not converged, or a group below accept_fraction, see
- *     below), a bounded coarse search of the translation and a small
- *     rotation correction (ego_coarse.h) around the prediction, then the same
- *     ITCP; without a prior, if still not good enough, the coarse search
- *     over the wide window. The prediction is skipped (wide window at once)
- *     when the last motion did not itself come out within trust_* of its
- *     prediction: between keyframes, or after a turn. The candidate with the
- *     largest balanced inlier share wins (a candidate replacing the prior's
- *     rotation needs prior_margin more); one with stop_fraction ends the
- *     search early.
+ * Per scan, every step charged to the scan's work meter (ego_work.h), whose
+ * limit is the scan interval times work_per_s:
+ *  1. prepare the points (ego_scan.h), a plain tangent per point
+ *     (ego_tfit.h) and the AH histogram, for the main direction;
+ *  2. track: when the motion is predictable (a prior, or a last motion that
+ *     came out close to its own prediction), ITCP from the prediction
+ *     (params.track). Converged with at least accept_fraction of each group
+ *     as inliers: done, that is the motion;
+ *  3. otherwise search, anytime, against the last scan: robust tangents
+ *     and HTAH for both scans, the histogram correlation's rotation
+ *     candidates, for each candidate ITCP with the rotation held then free
+ *     (the paper's two stages) from the prediction, the coarse translation
+ *     search (ego_coarse.h) around it and over a wide window when that is
+ *     not good enough, and a rotation sweep when no candidate fits. The
+ *     candidate with the largest balanced inlier share wins (a candidate
+ *     replacing the prior's rotation needs prior_margin more).
  *     Inlier share: per current point max(0, 1 - d^2 / inlier_distance^2),
  *     averaged per group (tangent on the main direction, or not), and the
- *     two groups weighted equally as in eq. 10: in a corridor a pose that
- *     fits the walls but not the few door frames and end walls is wrong,
- *     however many wall points fit. A group under a fifth of the points is
- *     pooled with the other (a handful of points is noise, not evidence);
- *  4. the relative pose of this scan in the frame of the last, and the
- *     velocities pose / dT.
+ *     two groups weighted equally as in eq. 10. A group under a fifth of
+ *     the points is pooled with the other.
+ *     The search works in steps; when the scan's budget ends first, it
+ *     goes on in the next scans' budgets against the same two scans. The
+ *     scans in between are not prepared: they claim no motion (flag
+ *     EGO_FLAG_RECOVERING). When it ends, the output is the motion from
+ *     the last trusted scan to the scan the search started from (flag
+ *     EGO_FLAG_RECOVERED, dt_us the time between them), and the next scan
+ *     is tracked against that one: summed, the poses leave no hole. A
+ *     search still running after max_search_scans starts over.
+ * A scan whose preparation does not fit its budget is skipped in the same
+ * way (EGO_FLAG_RECOVERING, no motion; the next motion spans it).
+ *
  * The prepared scans live in two slots of the caller's state that swap
  * roles each scan; nothing is copied.
  *
  * Failure is reported, not hidden: too few points, no usable histogram
  * correlation or a failed registration give a flag, and the output then
- * carries the last motion (scaled to this scan's dT) instead of a jump.
- * A time gap longer than max_gap_us, a reset or the first scan start over:
- * flag EGO_FLAG_FIRST, no motion.
+ * carries the prediction instead of a jump. The first scan and a reset
+ * start over: flag EGO_FLAG_FIRST, no motion. A long interval is not a
+ * gap: it only allows more work.
  *
- * Static memory: ego_state_t is about 2 x (ego_scan_t + ego_hist_t); see
- * docs/estimator.md for the figures. Not reentrant per state.
+ * Static memory: ego_state_t holds two prepared scans, two histograms and
+ * the search in progress; see docs/estimator.md for the figures. Not
+ * reentrant per state.
  */
 #ifndef EGO_H
 #define EGO_H
@@ -52,6 +58,7 @@
 #include "ego_hist.h"
 #include "ego_itcp.h"
 #include "ego_tfit.h"
+#include "ego_work.h"
 
 /* Output flags. */
 #define EGO_FLAG_FIRST 0x01u           /* first scan, reset or gap: no motion */
@@ -60,57 +67,96 @@
 #define EGO_FLAG_LOW_CORRELATION 0x08u /* histogram correlation below min */
 #define EGO_FLAG_TOO_FEW_POINTS 0x10u  /* scan or matches too sparse: motion predicted */
 #define EGO_FLAG_PREDICTED 0x20u       /* the output is the last motion, not a match */
+#define EGO_FLAG_RECOVERING 0x40u      /* a search is running (or the scan did not fit its
+                                          budget): no motion claimed, a later line covers it */
+#define EGO_FLAG_RECOVERED 0x80u       /* the search ended: the motion from the last trusted
+                                          scan to the scan it started from (dt_us apart) */
 
 typedef struct {
     ego_prep_params_t prep;
-    ego_tfit_params_t tfit;
-    ego_hist_params_t hist;
-    itcp_params_t itcp;
-    bool use_coarse;             /* coarse translation search before ITCP; default on */
-    ego_coarse_params_t coarse;      /* its window is centred on the prediction */
-    fx_q16_16_t coarse_window_first; /* window when no motion is known yet (first pair, or
-                                        after a failed match), default 4 m ... */
-    fx_q16_16_t coarse_step_first;   /* ... searched at this step, default 0.2 m */
-    fx_q16_16_t coarse_window_wide;  /* window when the last motion did not predict the
-                                        last scan, default 1.6 m (at the coarse step) */
-    fx_q2_30_t accept_fraction;  /* ITCP from the prediction with at least this share of
-                                    the points as inliers (and converged) needs no coarse
-                                    search; default 0.6 */
-    fx_q2_30_t stop_fraction;    /* a candidate this good ends the candidate loop;
-                                    default 0.8 */
+    ego_tfit_params_t tfit;      /* the search's robust tangents (tracking fits plainly) */
+    ego_hist_params_t hist;      /* the search's histogram (tracking's main direction: AH) */
+    itcp_params_t itcp;          /* the search's registrations */
+    itcp_params_t track;         /* tracking: from the prediction, thinned first */
+    ego_coarse_params_t coarse;  /* its window is centred on the prediction */
+    fx_q16_16_t coarse_window_first; /* window when no motion is known yet, default 4 m, */
+    fx_q16_16_t coarse_step_first;   /* searched at this step, default 0.2 m */
+    fx_q16_16_t coarse_window_wide;  /* window when the prediction did not hold, 1.6 m */
+    fx_q2_30_t accept_fraction;  /* converged with at least this share of each group as
+                                    inliers: good enough, no more searching; 0.6 */
+    fx_q2_30_t stop_fraction;    /* a candidate this good ends the candidate loop; 0.8 */
     uint16_t max_rotation_bins;  /* correlation search, default 225 (45 deg) */
     uint16_t merge_bins;         /* candidates closer merge, default 15 (3 deg) */
     fx_q2_30_t min_correlation;  /* below: EGO_FLAG_LOW_CORRELATION, default 0.3 */
     uint16_t min_points;         /* fewer: EGO_FLAG_TOO_FEW_POINTS, default 20 */
-    uint32_t max_gap_us;         /* longer between scans: start over, default 1 s */
     fx_q16_16_t trust_translation; /* the last motion predicts the next only when it was */
-    fx_bam32_t trust_rotation;     /* itself this close to its prediction; default 0.1 m,
-                                      3 deg (otherwise: the wide search) */
+    fx_bam32_t trust_rotation;     /* itself this close to its prediction; 0.1 m, 3 deg */
     fx_q2_30_t prior_margin;       /* another rotation candidate replaces the prior's only
-                                      with a balanced inlier share this much larger;
-                                      default 0.1 */
+                                      with a balanced inlier share this much larger; 0.1 */
     uint8_t sweep_steps;           /* without a prior, when no candidate fits: coarse search */
     fx_bam32_t sweep_step;         /* over rotations sweep_steps * sweep_step each side of
                                       the prediction; default 11 x 4 deg (0: off) */
-    bool hold_first;               /* ITCP with the rotation held first, then solved as
-                                      well (the paper's two stages); default on */
-    uint8_t max_candidates;        /* rotation candidates registered at most (0: all) */
-    bool prediction_first;         /* without a prior, a trusted prediction's rotation is
-                                      tried first, as a prior's is; default off */
+    uint32_t work_per_scan;        /* the budget of a scan: this many work units (ego_work.h) */
+    uint32_t work_per_s;           /* plus this many per second of scan interval; 0:
+                                      unlimited (offline analysis) */
+    uint8_t max_search_scans;      /* a search not done after this many scans starts over */
 } ego_params_t;
 
+/* The default budget: 150 k units per scan plus 30 M per second of scan
+ * interval, 950 k for a 361-value scan at 37.5 Hz and 550 k for a
+ * 181-value scan at 75 Hz, which leaves the firmware loop (framing,
+ * decoding, the output line: under 50 k) room within issue 15's 1.0 M and
+ * 0.6 M Cortex-M3 instructions (docs/firmware.md); a scan 0.4 s after the
+ * last may spend 12 M. */
+#define EGO_DEFAULT_WORK_PER_SCAN 150000u
+#define EGO_DEFAULT_WORK_PER_S 30000000u
+
+/* The defaults: no budget yet (work_per_s 0): every scan gets the work it
+ * needs, tracked when it can be, searched when not. */
 void ego_defaults(ego_params_t *params);
 
-/* The bounded profile, for a microcontroller that must keep up with the
- * scanner: ego_defaults with the work per scan capped by construction
- * (docs/firmware.md, "The bounded profile"): 0.5-deg scans thinned to
- * 1 deg, plain tangent fits at ITCP's points only, the angle histogram
- * searched +-5 deg (only when the last motion did not predict its scan),
- * one rotation candidate, no coarse search, ITCP without the held stage,
- * at most 6 + 4 iterations over at most 40 points. It tracks motions its
- * prediction (the last motion, or a prior) brings within its 0.15 m first
- * search radius: sensor-rate streams, not keyframes. */
-void ego_defaults_bounded(ego_params_t *params);
+/* The sensor-rate budget of issue 15 on top of ego_defaults (work_per_scan
+ * EGO_DEFAULT_WORK_PER_SCAN, work_per_s EGO_DEFAULT_WORK_PER_S). Work in
+ * progress: the budget holds by construction, but at 75 Hz tracking does
+ * not fit it yet after the scan's preparation, so the output is mostly
+ * EGO_FLAG_RECOVERING (docs/estimator.md, "The work budget"). */
+void ego_budget_defaults(ego_params_t *params);
+
+/* The search in progress (ego.c). Private. */
+typedef struct {
+    bool active;
+    uint8_t stage;
+    uint8_t step;            /* within a candidate's attempt */
+    uint8_t scans;           /* scans it has worked in */
+    uint16_t cursor;         /* point of the stage */
+    uint32_t time_us;        /* of the scan it started from */
+    uint32_t dt_us;          /* from the last trusted scan to it */
+    ego_pose_t predicted;
+    bool have_prior;
+    bool have_prediction;
+    bool known_motion;
+    fx_bam32_t main_direction;
+    uint8_t n;               /* rotation candidates */
+    uint8_t k;               /* the candidate being tried */
+    uint8_t pass;            /* its coarse passes: next, end */
+    uint8_t pass_end;
+    uint8_t tried;
+    uint8_t best_k;
+    uint16_t flags;
+    fx_bam32_t rotation[EGO_HIST_MAX_CANDIDATES + 2u];
+    fx_q2_30_t correlation[EGO_HIST_MAX_CANDIDATES + 2u];
+    ego_pose_t start;        /* of the attempt */
+    ego_coarse_params_t cp;  /* its coarse search, if any */
+    bool with_coarse;
+    ego_itcp_status_t attempt_status;
+    ego_itcp_result_t attempt;
+    ego_itcp_status_t candidate_status;
+    ego_itcp_result_t candidate;
+    ego_itcp_status_t best_status;
+    ego_itcp_result_t best;
+    ego_coarse_run_t coarse;
+    ego_hist_correlation_t correlation_run;
+} ego_search_t;
 
 typedef struct {
     /* Private. */
@@ -119,9 +165,16 @@ typedef struct {
     uint8_t last;            /* slot of the last scan */
     bool have_last;
     uint32_t last_time_us;
-    ego_pose_t motion;       /* last relative pose, for the prediction */
+    ego_pose_t motion;       /* the motion that predicts the next, over motion_dt_us */
     uint32_t motion_dt_us;
-    bool predictable;        /* the last motion came out close to its prediction */
+    bool predictable;        /* it came out close to its own prediction */
+    uint8_t misses;          /* searches in a row whose result the prediction missed */
+    bool refined[2];         /* the slot has robust tangents and the search's histogram */
+    bool have_previous;      /* the time of the previous scan, for the budget */
+    uint32_t previous_time_us;
+    ego_work_t work;         /* this scan's meter */
+    ego_itcp_run_t run;      /* the registration in progress */
+    ego_search_t search;
 } ego_state_t;
 
 typedef struct {
@@ -140,6 +193,8 @@ typedef struct {
     uint16_t inliers;
     fx_q16_16_t residual;     /* RMS match distance, m */
     fx_q2_30_t correlation;   /* histogram correlation of the chosen rotation */
+    uint32_t work;            /* units (ego_work.h) this scan spent */
+    uint32_t work_limit;      /* and its budget (UINT32_MAX: unlimited or more) */
 } ego_output_t;
 
 /* Starts over: the next scan is a first scan. */
@@ -155,7 +210,7 @@ typedef enum {
     EGO_STAGE_TANGENTS,    /* robust tangents */
     EGO_STAGE_HISTOGRAM,   /* the tangent-angle histogram */
     EGO_STAGE_CORRELATE,   /* histogram correlation: rotation candidates */
-    EGO_STAGE_REGISTER,    /* ITCP */
+    EGO_STAGE_REGISTER,    /* ITCP (tracking and search) */
     EGO_STAGE_COARSE,      /* the coarse translation (and rotation) search */
     EGO_STAGE_OTHER,       /* the rest: choosing, prediction, bookkeeping */
     EGO_STAGE_COUNT
@@ -172,7 +227,7 @@ typedef enum {
 } ego_status_t;
 
 /* Processes one scan taken at time_us (a free-running microsecond clock;
- * wrap-around is fine). */
+ * wrap-around is fine; scans less than 2^32 us apart). */
 ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                          uint32_t time_us, ego_output_t *out);
 

@@ -30,8 +30,13 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "ego_itcp.h"
 #include "ego_pose.h"
 #include "ego_scan.h"
+#include "ego_work.h"
+
+/* Largest sample; the defaults use 48. */
+#define EGO_COARSE_MAX_SAMPLE 128u
 
 typedef struct {
     fx_q16_16_t window;        /* half-width of the translation window, m */
@@ -45,6 +50,72 @@ typedef struct {
 } ego_coarse_params_t;
 
 void ego_coarse_defaults(ego_coarse_params_t *params);
+
+/* The search in steps, for a caller with a work budget (ego_work.h): a
+ * run started with ego_coarse_start goes on with each ego_coarse_step
+ * until it returns true; then ego_coarse_result gives what
+ * ego_coarse_search would. A step is one sample point's probe (at most
+ * EGO_COST_MATCH_POINT_MAX(EGO_ITCP_MAX_WALK) units and a little), and the
+ * meter is never asked for more than it has left. The scans must stay
+ * where they are, unchanged, until the run is finished. Private fields. */
+typedef struct {
+    uint16_t count[2];
+    uint16_t index[2][EGO_COARSE_MAX_SAMPLE];
+} ego_coarse_sample_t;
+
+typedef struct {
+    uint64_t score;
+    uint64_t penalty;
+} ego_coarse_tally_t;
+
+typedef struct {
+    bool active;
+    ego_pose_t pose;
+    fx_q2_30_t sn;
+    fx_q2_30_t cs;
+    uint64_t sigma_sq;
+    uint64_t must_beat;
+    bool ties_win;
+    ego_itcp_prober_t prober;
+    ego_coarse_tally_t tally[2]; /* per group */
+    uint8_t group;
+    uint16_t next;
+    uint64_t value;
+} ego_coarse_score_t;
+
+typedef struct {
+    ego_pose_t around;
+    fx_q16_16_t step;
+    fx_q16_16_t sigma;
+    int32_t n;          /* steps on each side */
+    ego_pose_t best;
+    uint64_t best_score;
+    int32_t best_rank;  /* the best's place in row order, -1: it came from outside */
+    int32_t ring;       /* the next point: ring and place in it */
+    int32_t at;
+} ego_coarse_grid_t;
+
+typedef struct {
+    const ego_scan_t *last;
+    const ego_scan_t *current;
+    ego_coarse_params_t params;
+    fx_bam32_t main_direction;
+    ego_pose_t centre;
+    ego_pose_t around;
+    ego_pose_t best;
+    uint64_t score;
+    int32_t rotation;
+    uint8_t phase;
+    ego_coarse_sample_t sample;
+    ego_coarse_score_t scoring;
+    ego_coarse_grid_t grid;
+} ego_coarse_run_t;
+
+void ego_coarse_start(ego_coarse_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
+                      fx_bam32_t main_direction, const ego_pose_t *centre,
+                      const ego_coarse_params_t *params);
+bool ego_coarse_step(ego_coarse_run_t *run, ego_work_t *work);
+void ego_coarse_result(const ego_coarse_run_t *run, ego_pose_t *best, uint64_t *score);
 
 /* Searches around *centre; *best gets the best pose, *score its score
  * (0: nothing matched anywhere; *best is then *centre). */

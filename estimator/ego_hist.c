@@ -7,7 +7,7 @@
 #include "ego_fx_math.h"
 
 /* Local maxima of the correlation kept before choosing candidates. */
-#define PEAKS_MAX 16u
+#define PEAKS_MAX EGO_HIST_PEAKS_MAX
 /* Bins are scaled to at most this before correlating (see ego_hist.h). */
 #define SCALED_MAX 0x8000u
 
@@ -230,17 +230,18 @@ static uint32_t vote_htah(const ego_scan_t *scan, uint16_t i, const ego_hist_par
     return votes;
 }
 
-uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params, ego_hist_t *h)
+uint32_t ego_hist_vote(const ego_scan_t *scan, const ego_hist_params_t *params, uint16_t first,
+                       uint16_t end, ego_hist_t *h)
 {
-    memset(h, 0, sizeof *h);
     uint32_t votes = 0u;
     uint8_t n = params->half_window;
     n = (n < 1u) ? 1u : (n > EGO_TFIT_MAX_HALF_WINDOW ? EGO_TFIT_MAX_HALF_WINDOW : n);
+    end = (end > scan->count) ? scan->count : end;
 
     switch (params->kind) {
     case EGO_HIST_AH:
     case EGO_HIST_LAH:
-        for (uint16_t i = 0u; i + 1u < scan->count; i++) {
+        for (uint16_t i = first; i < end && i + 1u < scan->count; i++) {
             if (!is_surface(scan, i)) {
                 continue;
             }
@@ -250,7 +251,7 @@ uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params,
         }
         break;
     case EGO_HIST_HAH:
-        for (uint16_t i = 0u; i < scan->count; i++) {
+        for (uint16_t i = first; i < end; i++) {
             window_t w;
             if (!has_full_window(scan, i, n) || !window_of(scan, i, n, &w)) {
                 continue;
@@ -265,7 +266,7 @@ uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params,
         }
         break;
     case EGO_HIST_HTAH:
-        for (uint16_t i = 0u; i < scan->count; i++) {
+        for (uint16_t i = first; i < end; i++) {
             if ((scan->flags[i] & EGO_POINT_HAS_TANGENT) != 0u && has_full_window(scan, i, n)) {
                 votes += vote_htah(scan, i, params, h);
             }
@@ -273,6 +274,12 @@ uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params,
         break;
     }
     return votes;
+}
+
+uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params, ego_hist_t *h)
+{
+    memset(h, 0, sizeof *h);
+    return ego_hist_vote(scan, params, 0u, scan->count, h);
 }
 
 void ego_hist_aoi_mask(const ego_hist_t *h, uint32_t threshold, uint16_t widen, uint8_t *mask)
@@ -452,12 +459,7 @@ static fx_q2_30_t ratio_q30(int64_t num, int64_t den)
     return (fx_q2_30_t)((num * ((int64_t)1 << 30)) / den);
 }
 
-typedef struct {
-    int32_t shift;
-    int64_t value;
-    int64_t left;
-    int64_t right;
-} peak_t;
+typedef ego_hist_peak_t peak_t;
 
 /* Keeps the PEAKS_MAX largest local maxima, sorted, largest first. */
 static void keep_peak(peak_t *peaks, uint8_t *count, const peak_t *p)
@@ -503,55 +505,91 @@ static fx_bam32_t peak_rotation(const peak_t *p)
     return (fx_bam32_t)(uint64_t)bam;
 }
 
-void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
-                    uint16_t max_shift_bins, uint16_t merge_bins, ego_hist_match_t *match)
+void ego_hist_correlation_start(ego_hist_correlation_t *c, fx_bam32_t centre,
+                                uint16_t max_shift_bins, uint16_t merge_bins)
 {
-    memset(match, 0, sizeof *match);
+    memset(c, 0, sizeof *c);
+    c->merge_bins = merge_bins;
+    c->limit =
+        (int32_t)((max_shift_bins < EGO_HIST_BINS / 2u) ? max_shift_bins : EGO_HIST_BINS / 2u - 1u);
+    /* The centre in bins (0.2 deg), rounded: |c| <= EGO_HIST_BINS. */
+    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)EGO_HIST_BINS;
+    c->mid = (int32_t)((centre_q + (centre_q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) /
+                       ((int64_t)1 << 31));
+    c->next = c->mid - c->limit;
+}
+
+bool ego_hist_correlation_step(ego_hist_correlation_t *c, const ego_hist_t *current,
+                               const ego_hist_t *last, uint32_t shifts)
+{
+    if (c->done) {
+        return true;
+    }
     const scaled_t a = scale(current);
     const scaled_t b = scale(last);
     runs_t a_runs;
     find_runs(&a, &a_runs);
-    const int64_t na = dot_shifted(&a, &a_runs, &a, 0);
-    const int64_t nb = dot_shifted(&b, NULL, &b, 0);
-    if (na == 0 || nb == 0) {
-        return; /* a flat histogram has no direction */
-    }
-    const int64_t den = (int64_t)fx_sqrt_u64((uint64_t)na) * (int64_t)fx_sqrt_u64((uint64_t)nb);
-    const int32_t limit =
-        (int32_t)((max_shift_bins < EGO_HIST_BINS / 2u) ? max_shift_bins : EGO_HIST_BINS / 2u - 1u);
-
-    /* The centre in bins (0.2 deg), rounded: |c| <= EGO_HIST_BINS. */
-    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)EGO_HIST_BINS;
-    const int32_t mid = (int32_t)((centre_q + (centre_q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) /
-                                  ((int64_t)1 << 31));
-
-    peak_t peaks[PEAKS_MAX];
-    uint8_t npeaks = 0u;
-    int64_t before = dot_shifted(&a, &a_runs, &b, mid - limit - 1);
-    int64_t here = dot_shifted(&a, &a_runs, &b, mid - limit);
-    for (int32_t j = mid - limit; j <= mid + limit; j++) {
-        const int64_t after = dot_shifted(&a, &a_runs, &b, j + 1);
-        if (here > before && here >= after) {
-            const peak_t p = {j, here, before, after};
-            keep_peak(peaks, &npeaks, &p);
+    if (!c->started) {
+        const int64_t na = dot_shifted(&a, &a_runs, &a, 0);
+        const int64_t nb = dot_shifted(&b, NULL, &b, 0);
+        if (na == 0 || nb == 0) {
+            c->done = true; /* a flat histogram has no direction */
+            return true;
         }
-        before = here;
-        here = after;
+        c->den = (int64_t)fx_sqrt_u64((uint64_t)na) * (int64_t)fx_sqrt_u64((uint64_t)nb);
+        c->before = dot_shifted(&a, &a_runs, &b, c->mid - c->limit - 1);
+        c->here = dot_shifted(&a, &a_runs, &b, c->mid - c->limit);
+        c->started = true;
+    }
+    for (uint32_t n = 0u; n < shifts && c->next <= c->mid + c->limit; n++) {
+        const int32_t j = c->next;
+        const int64_t after = dot_shifted(&a, &a_runs, &b, j + 1);
+        if (c->here > c->before && c->here >= after) {
+            const peak_t p = {j, c->here, c->before, after};
+            keep_peak(c->peaks, &c->npeaks, &p);
+        }
+        c->before = c->here;
+        c->here = after;
+        c->next++;
+    }
+    c->done = c->next > c->mid + c->limit;
+    return c->done;
+}
+
+void ego_hist_correlation_result(const ego_hist_correlation_t *c, ego_hist_match_t *match)
+{
+    memset(match, 0, sizeof *match);
+    if (!c->started) {
+        return;
     }
     /* Best first; a peak within merge_bins of a better one kept is dropped. */
     int32_t kept[EGO_HIST_MAX_CANDIDATES] = {0};
-    for (uint8_t k = 0u; k < npeaks && match->count < EGO_HIST_MAX_CANDIDATES; k++) {
+    for (uint8_t k = 0u; k < c->npeaks && match->count < EGO_HIST_MAX_CANDIDATES; k++) {
         bool near = false;
         for (uint8_t m = 0u; m < match->count; m++) {
-            const int32_t gap = peaks[k].shift - kept[m];
-            near = near || (gap <= (int32_t)merge_bins && gap >= -(int32_t)merge_bins);
+            const int32_t gap = c->peaks[k].shift - kept[m];
+            near = near || (gap <= (int32_t)c->merge_bins && gap >= -(int32_t)c->merge_bins);
         }
         if (near) {
             continue;
         }
-        kept[match->count] = peaks[k].shift;
-        ego_hist_candidate_t *c = &match->candidate[match->count++];
-        c->rotation = peak_rotation(&peaks[k]);
-        c->correlation = ratio_q30(peaks[k].value, den);
+        kept[match->count] = c->peaks[k].shift;
+        ego_hist_candidate_t *cand = &match->candidate[match->count++];
+        cand->rotation = peak_rotation(&c->peaks[k]);
+        cand->correlation = ratio_q30(c->peaks[k].value, c->den);
     }
+}
+
+uint32_t ego_hist_correlation_shifts(const ego_hist_correlation_t *c)
+{
+    return (uint32_t)(2 * c->limit + 1);
+}
+
+void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                    uint16_t max_shift_bins, uint16_t merge_bins, ego_hist_match_t *match)
+{
+    ego_hist_correlation_t c;
+    ego_hist_correlation_start(&c, centre, max_shift_bins, merge_bins);
+    (void)ego_hist_correlation_step(&c, current, last, UINT32_MAX);
+    ego_hist_correlation_result(&c, match);
 }

@@ -84,6 +84,13 @@ typedef struct {
  * votes cast (for LAH, the number of segments). */
 uint32_t ego_hist_build(const ego_scan_t *scan, const ego_hist_params_t *params, ego_hist_t *h);
 
+/* Adds the votes of points first .. end - 1 to h (ego_hist_build is a
+ * cleared h and every point): the work of a few points at a time, for a
+ * caller that spreads a histogram over a budget (ego.c). Returns the
+ * votes cast. */
+uint32_t ego_hist_vote(const ego_scan_t *scan, const ego_hist_params_t *params, uint16_t first,
+                       uint16_t end, ego_hist_t *h);
+
 /* Angle-of-interest mask from a histogram: bins whose count is at least
  * threshold, widened by `widen` bins on each side (circularly). */
 void ego_hist_aoi_mask(const ego_hist_t *h, uint32_t threshold, uint16_t widen, uint8_t *mask);
@@ -116,5 +123,43 @@ typedef struct {
  * 180-deg alternatives. */
 void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
                     uint16_t max_shift_bins, uint16_t merge_bins, ego_hist_match_t *match);
+
+/* The same correlation in steps, for a caller with a work budget: start,
+ * then steps of at most `shifts` shifts each until one returns true, then
+ * the result (ego_hist_correlate is all three at once). A step costs a
+ * setup of a few passes over the bins plus, per shift, at most one
+ * product per filled bin of the current histogram. The histograms must not
+ * change between steps. */
+#define EGO_HIST_PEAKS_MAX 16u
+
+typedef struct {
+    int32_t shift;
+    int64_t value;
+    int64_t left;
+    int64_t right;
+} ego_hist_peak_t;
+
+typedef struct {
+    /* Private. */
+    uint16_t merge_bins;
+    bool started;
+    bool done;
+    int32_t mid;
+    int32_t limit;
+    int32_t next;
+    int64_t before;
+    int64_t here;
+    int64_t den;
+    uint8_t npeaks;
+    ego_hist_peak_t peaks[EGO_HIST_PEAKS_MAX];
+} ego_hist_correlation_t;
+
+void ego_hist_correlation_start(ego_hist_correlation_t *c, fx_bam32_t centre,
+                                uint16_t max_shift_bins, uint16_t merge_bins);
+bool ego_hist_correlation_step(ego_hist_correlation_t *c, const ego_hist_t *current,
+                               const ego_hist_t *last, uint32_t shifts);
+void ego_hist_correlation_result(const ego_hist_correlation_t *c, ego_hist_match_t *match);
+/* Shifts in all (2 max_shift_bins + 1, capped). */
+uint32_t ego_hist_correlation_shifts(const ego_hist_correlation_t *c);
 
 #endif /* EGO_HIST_H */

@@ -167,10 +167,11 @@ void ego_tfit_fit_scan(ego_scan_t *scan, const ego_tfit_params_t *params)
     ego_tfit_fit_scan_sample(scan, params, 0u, 1u);
 }
 
-void ego_tfit_fit_scan_sample(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t first_point,
-                          uint16_t stride)
+void ego_tfit_fit_point(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t i)
 {
-    stride = (stride < 1u) ? 1u : stride;
+    if (i >= scan->count) {
+        return;
+    }
     uint8_t n = params->half_window;
     if (n < 1u) {
         n = 1u;
@@ -179,42 +180,51 @@ void ego_tfit_fit_scan_sample(ego_scan_t *scan, const ego_tfit_params_t *params,
         n = EGO_TFIT_MAX_HALF_WINDOW;
     }
     const uint8_t min_points = (params->min_points < 2u) ? 2u : params->min_points;
+    scan->flags[i] &= (uint8_t)~EGO_POINT_HAS_TANGENT;
+    scan->tangent[i] = 0u;
+    scan->tangent_rms[i] = 0u;
+    /* The window: up to n linked neighbours on each side. */
+    uint16_t first = i;
+    while (first > 0u && i - first < n && ego_scan_linked(scan, (uint16_t)(first - 1u))) {
+        first--;
+    }
+    uint16_t last = i;
+    while (last + 1u < scan->count && last - i < n && ego_scan_linked(scan, last)) {
+        last++;
+    }
+    const uint16_t count = (uint16_t)(last - first + 1u);
+    if (count < min_points) {
+        return;
+    }
+    /* Relative to P[i]: small numbers, exact in Q16.16. */
+    fx_q16_16_t rx[EGO_TFIT_WINDOW_MAX];
+    fx_q16_16_t ry[EGO_TFIT_WINDOW_MAX];
+    for (uint16_t k = 0u; k < count; k++) {
+        rx[k] = fx_sub_q16(scan->x[first + k], scan->x[i]);
+        ry[k] = fx_sub_q16(scan->y[first + k], scan->y[i]);
+    }
+    fx_bam32_t tangent = 0u;
+    fx_q16_16_t rms = 0;
+    if (ego_tfit_fit(rx, ry, count, params->passes, params->sigma_min, &tangent, &rms)) {
+        scan->tangent[i] = tangent;
+        scan->tangent_rms[i] = (uint16_t)((rms > 0xFFFF) ? 0xFFFF : rms);
+        scan->flags[i] |= EGO_POINT_HAS_TANGENT;
+    }
+}
 
+void ego_tfit_fit_scan_sample(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t first_point,
+                          uint16_t stride)
+{
+    stride = (stride < 1u) ? 1u : stride;
     uint16_t next = first_point;
     for (uint16_t i = 0u; i < scan->count; i++) {
-        scan->flags[i] &= (uint8_t)~EGO_POINT_HAS_TANGENT;
-        scan->tangent[i] = 0u;
-        scan->tangent_rms[i] = 0u;
-        if (i != next) {
-            continue;
-        }
-        next = (uint16_t)(next + stride);
-        /* The window: up to n linked neighbours on each side. */
-        uint16_t first = i;
-        while (first > 0u && i - first < n && ego_scan_linked(scan, (uint16_t)(first - 1u))) {
-            first--;
-        }
-        uint16_t last = i;
-        while (last + 1u < scan->count && last - i < n && ego_scan_linked(scan, last)) {
-            last++;
-        }
-        const uint16_t count = (uint16_t)(last - first + 1u);
-        if (count < min_points) {
-            continue;
-        }
-        /* Relative to P[i]: small numbers, exact in Q16.16. */
-        fx_q16_16_t rx[EGO_TFIT_WINDOW_MAX];
-        fx_q16_16_t ry[EGO_TFIT_WINDOW_MAX];
-        for (uint16_t k = 0u; k < count; k++) {
-            rx[k] = fx_sub_q16(scan->x[first + k], scan->x[i]);
-            ry[k] = fx_sub_q16(scan->y[first + k], scan->y[i]);
-        }
-        fx_bam32_t tangent = 0u;
-        fx_q16_16_t rms = 0;
-        if (ego_tfit_fit(rx, ry, count, params->passes, params->sigma_min, &tangent, &rms)) {
-            scan->tangent[i] = tangent;
-            scan->tangent_rms[i] = (uint16_t)((rms > 0xFFFF) ? 0xFFFF : rms);
-            scan->flags[i] |= EGO_POINT_HAS_TANGENT;
+        if (i == next) {
+            next = (uint16_t)(next + stride);
+            ego_tfit_fit_point(scan, params, i);
+        } else {
+            scan->flags[i] &= (uint8_t)~EGO_POINT_HAS_TANGENT;
+            scan->tangent[i] = 0u;
+            scan->tangent_rms[i] = 0u;
         }
     }
 }

@@ -58,6 +58,10 @@ bool ego_tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, ui
  * EGO_POINT_HAS_TANGENT flag. */
 void ego_tfit_fit_scan(ego_scan_t *scan, const ego_tfit_params_t *params);
 
+/* Fits point i alone (its tangent, tangent_rms and flag): the work of one
+ * point, for a caller that spreads the fits over a budget (ego.c). */
+void ego_tfit_fit_point(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t i);
+
 /* The same for points first, first + stride, ... only (stride >= 1); the
  * others get no tangent. For the bounded profile, where only ITCP's sample
  * of the points needs one. */

@@ -24,10 +24,10 @@ typedef struct {
 } ego_work_t;
 
 /* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
-#define EGO_COST_PREP_BEAM 700u          /* ego_scan_prepare, per input beam */
-#define EGO_COST_TFIT_PLAIN 1100u        /* one plain tangent fit (one point) */
+#define EGO_COST_PREP_BEAM 550u          /* ego_scan_prepare, per input beam */
+#define EGO_COST_TFIT_PLAIN 1000u       /* one plain tangent fit (one point) */
 #define EGO_COST_TFIT_ROBUST 5500u       /* one robust tangent fit (plain + 2 passes) */
-#define EGO_COST_AH_POINT 250u           /* the AH histogram, per point */
+#define EGO_COST_AH_POINT 200u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 4000u        /* HTAH, per point with a window ... */
 #define EGO_COST_HTAH_VOTE 150u          /* ... plus per vote cast */
 #define EGO_COST_CORRELATE_PRODUCT 12u   /* histogram correlation, per bin product */

@@ -1,5 +1,5 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
- * [--mode HEX] [--bounded] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
+ * [--mode HEX] [--budget none|U] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
  * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
@@ -7,6 +7,10 @@
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
  *
+ * --budget sets the estimator's work budget (ego.h): U work units (about
+ * Cortex-M3 instructions, estimator/ego_work.h) per second of scan
+ * interval on top of 150 000 per scan, or `none` (the default for now:
+ * the budgeted path is work in progress, docs/estimator.md).
  * --prior FILE gives a motion prior per scan (lines `i j dx dy dtheta`, as
  * `import-carmen --odometry` writes them; ego.h says how it is used).
  * --pairs OUT also writes `i j dx dy dtheta` per consecutive pair (scan
@@ -251,12 +255,6 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *frames_path = NULL;
     unsigned long scan_step = 1u;
     unsigned long scan_offset = 0u;
-    /* --bounded first: the other options adjust the profile it selects. */
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--bounded") == 0) {
-            ego_defaults_bounded(&config.ego);
-        }
-    }
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -307,8 +305,19 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                                        "a whole number, 0..100000");
             }
             i++;
-        } else if (strcmp(arg, "--bounded") == 0) {
-            /* applied above */
+        } else if (strcmp(arg, "--budget") == 0) {
+            double units = 0.0;
+            if (value != NULL && strcmp(value, "none") == 0) {
+                config.ego.work_per_s = 0u;
+            } else if (value == NULL || cli_parse_double(value, &units) != 0 || units < 1e5 ||
+                       units > 4e9) {
+                return cli_usage_error(self, "invalid --budget", value,
+                                       "none, or work units per second, 1e5 .. 4e9");
+            } else {
+                ego_budget_defaults(&config.ego);
+                config.ego.work_per_s = (uint32_t)lround(units);
+            }
+            i++;
         } else if (strcmp(arg, "--icp") == 0) {
             config.ego.itcp.weighted = false; /* plain ICP, for comparison */
         } else if (strcmp(arg, "--hist") == 0) {

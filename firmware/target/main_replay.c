@@ -105,10 +105,6 @@ int main(void)
     target_uart_init();
     target_clock_init();
     ego_loop_defaults(&config);
-#if defined(REPLAY_BOUNDED)
-    /* The bounded profile (ego.h): `lmsego replay --bounded` on the host. */
-    ego_defaults_bounded(&config.ego);
-#endif
     config.observer = observe;
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, NULL};

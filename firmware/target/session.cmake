@@ -96,6 +96,3 @@ function(lmsego_session_irq_image image test)
 endfunction()
 lmsego_session_irq_image(session_irq_image target_session_irq)
 
-# The same real-time board with the bounded estimator profile (ego.h,
-# docs/firmware.md): it must keep up, every scan estimated and none skipped.
-lmsego_session_irq_image(session_irq_bounded_image target_session_irq_bounded SESSION_BOUNDED)

@@ -1,12 +1,14 @@
 /* bench_estimator.c - cost of the estimator per scan on the host.
  *
- *   bench_estimator [--icp] [--mode HEX] [--once] STREAM
+ *   bench_estimator [--icp] [--mode HEX] [--once] [--budget none] [--trace] STREAM
  *
  * Decodes every B0 scan of a recorded stream into memory first, then runs
  * ego_process over them in order (scan k at k times the LMS mode's period),
  * timing each call with clock_gettime(CLOCK_MONOTONIC). Prints the number
  * of scans, the median and maximum time per scan, and the mean ITCP
- * iterations. --icp runs plain ICP instead of ITCP; --once skips the timing
+ * iterations, and the work units (ego_work.h) per scan: median, maximum,
+ * and the largest share of its budget a scan used. --trace prints every
+ * scan's flags, work and budget. --icp runs plain ICP instead of ITCP; --once skips the timing
  * summary (for callgrind: valgrind --tool=callgrind
  * --toggle-collect=bench_process_all ... gives instructions per scan).
  * Host-only.
@@ -24,6 +26,9 @@
 
 static lms_scan_t scans[MAX_SCANS];
 static double seconds[MAX_SCANS];
+static double units[MAX_SCANS];
+static double worst_share;
+static int trace;
 static ego_state_t state;
 static ego_lms_params_t lms;
 static lms_scan_t work; /* the adapter turns its values into ranges in place */
@@ -64,6 +69,16 @@ __attribute__((noinline)) static unsigned long bench_process_all(const ego_param
             seconds[k] = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
         }
         iterations += out.iterations;
+        units[k] = out.work;
+        if (out.work_limit != 0u && k > 0u) {
+            const double share = (double)out.work / (double)out.work_limit;
+            worst_share = (share > worst_share) ? share : worst_share;
+        }
+        if (trace) {
+            (void)printf("scan %zu flags 0x%02x work %u limit %u iterations %u\n", k,
+                         (unsigned)out.flags, (unsigned)out.work, (unsigned)out.work_limit,
+                         (unsigned)out.iterations);
+        }
     }
     return iterations;
 }
@@ -78,6 +93,11 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--icp") == 0) {
             params.itcp.weighted = false;
+        } else if (strcmp(argv[i], "--trace") == 0) {
+            trace = 1;
+        } else if (strcmp(argv[i], "--budget") == 0 && i + 1 < argc) {
+            i++;
+            params.work_per_s = 0u; /* only "none" */
         } else if (strcmp(argv[i], "--once") == 0) {
             once = 1;
         } else if (strcmp(argv[i], "--mode") == 0 && i + 1 < argc) {
@@ -98,6 +118,10 @@ int main(int argc, char **argv)
     const unsigned long iterations = bench_process_all(&params, n, !once);
     (void)printf("scans=%zu values=%u mode=%s iterations_mean=%.2f\n", n, scans[0].count,
                  params.itcp.weighted ? "ITCP" : "ICP", (double)iterations / (double)(n - 1u));
+    /* Scan 0 (the first: its preparation only) is nobody's budget. */
+    qsort(units + 1, n - 1u, sizeof units[0], cmp_double);
+    (void)printf("work per scan: median %.0f  max %.0f units, at most %.1f %% of a budget\n",
+                 units[1 + (n - 1u) / 2u], units[n - 1u], worst_share * 100.0);
     if (!once) {
         qsort(seconds, n, sizeof seconds[0], cmp_double);
         (void)printf("per scan: median %.3f ms  max %.3f ms\n", seconds[n / 2u] * 1e3,

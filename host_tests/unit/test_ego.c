@@ -112,6 +112,7 @@ static ego_output_t step(double x, double y, double heading_deg, uint32_t t_us)
 static void test_ego_first_scan_then_motion_and_velocities(void)
 {
     ego_defaults(&g_params);
+    g_params.work_per_s = 0u; /* the algorithm, unbounded: the budget has its own tests */
     ego_reset(&g_state);
     ego_output_t out = step(0.0, 0.0, 0.0, 1000000u);
     TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
@@ -137,7 +138,8 @@ static void test_ego_first_scan_then_motion_and_velocities(void)
     TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.omega) - rad_of(out.pose.theta) / 0.04) <
                                  0.001, msg);
     TEST_ASSERT_TRUE(out.matches > 200u && out.inliers > 200u);
-    TEST_ASSERT_TRUE(out.correlation > (fx_q2_30_t)(FX_Q2_30_ONE / 2));
+    /* Tracked from no motion (no candidates), or found by the search. */
+    TEST_ASSERT_TRUE(out.candidates == 0u || out.correlation > (fx_q2_30_t)(FX_Q2_30_ONE / 2));
 
     /* The next scan is relative to the second one (the slots swapped). */
     out = step(0.4, 0.0, 2.0, 1080000u);
@@ -151,6 +153,7 @@ static void test_ego_first_scan_then_motion_and_velocities(void)
 static void test_ego_large_first_motion_needs_the_coarse_search(void)
 {
     ego_defaults(&g_params);
+    g_params.work_per_s = 0u;
     ego_reset(&g_state);
     (void)step(0.0, 0.0, 0.0, 0u);
     ego_output_t out = step(1.6, 0.8, 5.0, 100000u);
@@ -161,7 +164,10 @@ static void test_ego_large_first_motion_needs_the_coarse_search(void)
     TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 1.6) < 0.01, msg);
     TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.y) - 0.8) < 0.01, msg);
     /* Without the coarse search ITCP cannot get there. */
-    g_params.use_coarse = false;
+    g_params.coarse.window = 0;
+    g_params.coarse_window_first = 0;
+    g_params.coarse_window_wide = 0;
+    g_params.sweep_steps = 0u;
     ego_reset(&g_state);
     (void)step(0.0, 0.0, 0.0, 0u);
     out = step(1.6, 0.8, 5.0, 100000u);
@@ -169,15 +175,23 @@ static void test_ego_large_first_motion_needs_the_coarse_search(void)
                       fabs(fx_q16_16_to_double(out.pose.y) - 0.8) < 0.01);
 }
 
-static void test_ego_gap_and_sparse_scans(void)
+static void test_ego_long_interval_and_sparse_scans(void)
 {
     ego_defaults(&g_params);
+    g_params.work_per_s = 0u;
     ego_reset(&g_state);
     (void)step(0.0, 0.0, 0.0, 0u);
     ego_output_t out = step(0.1, 0.0, 0.0, 26667u);
     TEST_ASSERT_EQUAL_HEX16(0u, out.flags);
-    /* A silence longer than max_gap_us starts over. */
+    /* Two seconds later is not a gap (keyframes are legitimate): the
+     * motion over it is measured. */
     out = step(0.2, 0.0, 0.0, 26667u + 2000000u);
+    TEST_ASSERT_EQUAL_HEX16(0u, out.flags & (EGO_FLAG_FIRST | EGO_FLAG_PREDICTED));
+    TEST_ASSERT_EQUAL_UINT32(2000000u, out.dt_us);
+    TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(out.pose.x) - 0.1) < 0.005);
+    /* A reset starts over. */
+    ego_reset(&g_state);
+    out = step(0.2, 0.0, 0.0, 2026667u);
     TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
     (void)step(0.3, 0.0, 0.0, 2053334u);
     /* A scan with almost no points: the last motion, scaled, flagged. */
@@ -202,6 +216,107 @@ static void test_ego_gap_and_sparse_scans(void)
     TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(out.pose.x) - 0.1) < 0.005);
 }
 
+/* The scan kinds that cost the unbounded estimator most, or break it:
+ * issue 15's adversarial inputs, as LMS values (cm, 361 at 0.5 deg). */
+enum { ALL_INVALID, ONE_POINT, COLLINEAR, ZIGZAG_AT_LIMIT, ALL_AT_MAX, ROOM_REPEATED,
+       ALTERNATING, KINDS };
+
+static void adversarial_lms(unsigned kind, unsigned k)
+{
+    room_lms(0.0, 0.0, 0.0);
+    for (unsigned i = 0u; i < g_lms.count; i++) {
+        uint16_t v = g_lms.values[i];
+        switch (kind) {
+        case ALL_INVALID:
+            v = 0x1FFFu;
+            break;
+        case ONE_POINT:
+            v = (i == 180u) ? 500u : 0x1FFFu;
+            break;
+        case COLLINEAR: { /* a wall 5 m ahead, seen across the whole field */
+            const double a = ((double)i * 0.5 - 90.0) * FX_HOST_PI / 180.0;
+            const double r = (fabs(cos(a)) > 0.06) ? 500.0 / fabs(cos(a)) : 8182.0;
+            v = (uint16_t)((r < 8182.0) ? r : 8182.0);
+            break;
+        }
+        case ZIGZAG_AT_LIMIT:
+            v = (uint16_t)((i % 2u == 0u) ? 8182u : 8100u);
+            break;
+        case ALL_AT_MAX:
+            v = 8182u;
+            break;
+        case ROOM_REPEATED:
+            break;
+        default: /* the room and its mirror image, scan after scan */
+            v = ((k % 2u) == 0u) ? g_lms.values[i] : g_lms.values[g_lms.count - 1u - i];
+            break;
+        }
+        g_lms.values[i] = v;
+    }
+    if (kind == ALTERNATING && (k % 2u) == 1u) {
+        room_lms(0.0, 0.0, 0.0);
+        for (unsigned i = 0u; i < g_lms.count / 2u; i++) {
+            const uint16_t t = g_lms.values[i];
+            g_lms.values[i] = g_lms.values[g_lms.count - 1u - i];
+            g_lms.values[g_lms.count - 1u - i] = t;
+        }
+    }
+}
+
+/* With the sensor-rate budget (ego_budget_defaults), no scan spends more
+ * work units than its budget, whatever it holds, and a scan that claims no
+ * motion says so. */
+static void test_ego_budget_holds_on_adversarial_scans(void)
+{
+    for (unsigned kind = 0u; kind < KINDS; kind++) {
+        ego_defaults(&g_params);
+        ego_budget_defaults(&g_params);
+        ego_reset(&g_state);
+        uint64_t spent = 0u;
+        for (unsigned k = 0u; k < 12u; k++) {
+            adversarial_lms(kind, k);
+            ego_output_t out;
+            TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
+                                                      26667u * k, &out));
+            spent += out.work;
+            if (k == 0u) {
+                TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
+                continue;
+            }
+            char msg[96];
+            (void)snprintf(msg, sizeof msg, "kind %u scan %u work %u limit %u flags 0x%x", kind,
+                           k, (unsigned)out.work, (unsigned)out.work_limit, (unsigned)out.flags);
+            /* 150 k + 30 M/s x 26.667 ms. */
+            TEST_ASSERT_EQUAL_UINT32_MESSAGE(950010u, out.work_limit, msg);
+            TEST_ASSERT_TRUE_MESSAGE(out.work <= out.work_limit, msg);
+            if ((out.flags & EGO_FLAG_RECOVERING) != 0u) {
+                TEST_ASSERT_EQUAL_INT32_MESSAGE(0, out.pose.x, msg);
+                TEST_ASSERT_EQUAL_INT32_MESSAGE(0, out.pose.y, msg);
+                TEST_ASSERT_EQUAL_UINT32_MESSAGE(0u, out.pose.theta, msg);
+            }
+        }
+        /* Work was done: the meter counts. */
+        TEST_ASSERT_TRUE(spent > 0u);
+    }
+}
+
+/* Unbounded, the same scans are spent on until done: every scan is
+ * answered at once (nothing recovering), and the meter says so. */
+static void test_ego_unbounded_answers_every_scan(void)
+{
+    ego_defaults(&g_params);
+    ego_reset(&g_state);
+    for (unsigned k = 0u; k < 4u; k++) {
+        adversarial_lms(ALTERNATING, k);
+        ego_output_t out;
+        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
+                                                  26667u * k, &out));
+        TEST_ASSERT_EQUAL_HEX16(0u, out.flags & EGO_FLAG_RECOVERING);
+        TEST_ASSERT_EQUAL_UINT32(UINT32_MAX, out.work_limit);
+        TEST_ASSERT_TRUE(out.work > 0u);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -210,6 +325,8 @@ int main(void)
     RUN_TEST(test_coarse_search_without_points_keeps_the_centre);
     RUN_TEST(test_ego_first_scan_then_motion_and_velocities);
     RUN_TEST(test_ego_large_first_motion_needs_the_coarse_search);
-    RUN_TEST(test_ego_gap_and_sparse_scans);
+    RUN_TEST(test_ego_long_interval_and_sparse_scans);
+    RUN_TEST(test_ego_budget_holds_on_adversarial_scans);
+    RUN_TEST(test_ego_unbounded_answers_every_scan);
     return UNITY_END();
 }
