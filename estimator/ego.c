@@ -5,7 +5,7 @@
 #include <string.h>
 
 #if defined(EGO_PROFILE)
-#define STAGE(s) ego_profile_stage(s)
+#define STAGE(s) ego_profile_stage((s), state->work.used)
 #else
 #define STAGE(s) ((void)0)
 #endif
@@ -655,30 +655,30 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
     return params->work_per_scan + interval * params->work_per_s / US_PER_S;
 }
 
-/* Prepares the scan into slot cur with its plain tangents and AH
+/* Prepares the scan into slot cur with its chord tangents and AH
  * histogram; false (nothing changed) when the budget cannot pay for it. */
 static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                     uint8_t cur)
 {
     const uint32_t cost =
-        (uint32_t)scan->count * (EGO_COST_PREP_BEAM + EGO_COST_TFIT_PLAIN + EGO_COST_AH_POINT);
+        (uint32_t)scan->count * (EGO_COST_PREP_BEAM + EGO_COST_TFIT_CHORD + EGO_COST_AH_POINT);
     if (!ego_work_allows(&state->work, cost)) {
         return false;
     }
-    ego_work_spend(&state->work, cost);
     ego_scan_t *current = &state->slot[cur];
     STAGE(EGO_STAGE_PREPARE);
+    ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_PREP_BEAM);
     (void)ego_scan_prepare(scan, &params->prep, current);
     STAGE(EGO_STAGE_TANGENTS);
-    ego_tfit_params_t plain = params->tfit;
-    plain.passes = 0u;
-    ego_tfit_fit_scan(current, &plain);
+    ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_TFIT_CHORD);
+    ego_tfit_chord_scan(current);
     STAGE(EGO_STAGE_HISTOGRAM);
+    ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_AH_POINT);
     ego_hist_params_t ah = params->hist;
     ah.kind = EGO_HIST_AH;
     (void)ego_hist_build(current, &ah, &state->hist[cur]);
     STAGE(EGO_STAGE_OTHER);
-    state->refined[cur] = params->hist.kind == EGO_HIST_AH && params->tfit.passes == 0u;
+    state->refined[cur] = false;
     return true;
 }
 

@@ -4,7 +4,7 @@
  *
  * Per scan, every step charged to the scan's work meter (ego_work.h), whose
  * limit is the scan interval times work_per_s:
- *  1. prepare the points (ego_scan.h), a plain tangent per point
+ *  1. prepare the points (ego_scan.h), a chord tangent per point
  *     (ego_tfit.h) and the AH histogram, for the main direction;
  *  2. track: when the motion is predictable (a prior, or a last motion that
  *     came out close to its own prediction), ITCP from the prediction
@@ -202,9 +202,12 @@ void ego_reset(ego_state_t *state);
 
 /* The stages of ego_process, for profiling where the work goes. Built with
  * EGO_PROFILE defined, ego_process calls ego_profile_stage (which the
- * platform provides) as each stage begins; the work between two calls
- * belongs to the first one's stage. Without EGO_PROFILE nothing is
- * called (the firmware's profile images use it: docs/firmware.md). */
+ * platform provides) as each stage begins, with the work units the scan
+ * has been charged so far (ego_work.h; the meter starts at 0 each scan);
+ * the work between two calls belongs to the first one's stage, so a
+ * profile can set the instructions of each stage against its units.
+ * Without EGO_PROFILE nothing is called (the firmware's profile images use
+ * it: docs/firmware.md). */
 typedef enum {
     EGO_STAGE_PREPARE = 0, /* polar -> points, segments */
     EGO_STAGE_TANGENTS,    /* robust tangents */
@@ -217,7 +220,7 @@ typedef enum {
 } ego_stage_t;
 
 #if defined(EGO_PROFILE)
-void ego_profile_stage(ego_stage_t stage);
+void ego_profile_stage(ego_stage_t stage, uint64_t units);
 #endif
 
 typedef enum {

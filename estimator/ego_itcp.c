@@ -562,7 +562,7 @@ void ego_itcp_solve(const ego_itcp_sums_t *sums, bool weighted, bool hold_theta,
     }
     const ego_itcp_group_sums_t *g[2] = {&all, weighted ? &sums->group[1] : &none};
     int64_t groups = 0;
-    if (g[0]->n + g[1]->n == 0) {
+    if (g[0]->n <= 0 && g[1]->n <= 0) {
         return; /* nothing to solve with: the pose stays */
     }
     int64_t xm = 0;
@@ -587,7 +587,7 @@ void ego_itcp_solve(const ego_itcp_sums_t *sums, bool weighted, bool hold_theta,
         int64_t num = 0;
         int64_t den = 0;
         for (int k = 0; k < 2; k++) {
-            if (g[k]->n == 0) {
+            if (g[k]->n <= 0) {
                 continue;
             }
             const ego_itcp_group_sums_t *s = g[k];

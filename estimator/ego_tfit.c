@@ -212,6 +212,25 @@ void ego_tfit_fit_point(ego_scan_t *scan, const ego_tfit_params_t *params, uint1
     }
 }
 
+void ego_tfit_chord_scan(ego_scan_t *scan)
+{
+    for (uint16_t i = 0u; i < scan->count; i++) {
+        scan->flags[i] &= (uint8_t)~EGO_POINT_HAS_TANGENT;
+        scan->tangent[i] = 0u;
+        scan->tangent_rms[i] = 0u;
+        /* The linked neighbours on each side, or the point itself. */
+        const uint16_t a = (i > 0u && ego_scan_linked(scan, (uint16_t)(i - 1u))) ? (uint16_t)(i - 1u) : i;
+        const uint16_t b = (i + 1u < scan->count && ego_scan_linked(scan, i)) ? (uint16_t)(i + 1u) : i;
+        if (a == b) {
+            continue;
+        }
+        const int64_t dx = (int64_t)scan->x[b] - scan->x[a];
+        const int64_t dy = (int64_t)scan->y[b] - scan->y[a];
+        scan->tangent[i] = fx_atan2(dy, dx) & (FX_BAM32_HALF - 1u);
+        scan->flags[i] |= EGO_POINT_HAS_TANGENT;
+    }
+}
+
 void ego_tfit_fit_scan_sample(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t first_point,
                           uint16_t stride)
 {

@@ -24,17 +24,17 @@ typedef struct {
 } ego_work_t;
 
 /* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
-#define EGO_COST_PREP_BEAM 550u          /* ego_scan_prepare, per input beam */
-#define EGO_COST_TFIT_PLAIN 1000u       /* one plain tangent fit (one point) */
-#define EGO_COST_TFIT_ROBUST 5500u       /* one robust tangent fit (plain + 2 passes) */
-#define EGO_COST_AH_POINT 200u           /* the AH histogram, per point */
-#define EGO_COST_HTAH_POINT 4000u        /* HTAH, per point with a window ... */
-#define EGO_COST_HTAH_VOTE 150u          /* ... plus per vote cast */
+#define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per input beam */
+#define EGO_COST_TFIT_CHORD 400u         /* one chord tangent (one point) */
+#define EGO_COST_TFIT_ROBUST 6500u       /* one robust tangent fit (plain + 2 passes) */
+#define EGO_COST_AH_POINT 150u           /* the AH histogram, per point */
+#define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */
+#define EGO_COST_HTAH_VOTE 70u           /* ... plus per vote cast */
 #define EGO_COST_CORRELATE_PRODUCT 12u   /* histogram correlation, per bin product */
-#define EGO_COST_MATCH_POINT 700u        /* ITCP / coarse probe: one point located */
-#define EGO_COST_MATCH_STEP 30u          /* ... plus per scan point walked past */
-#define EGO_COST_MATCH_SEGMENT 450u      /* ... plus per segment distance computed */
-#define EGO_COST_SOLVE 3000u             /* one closed-form solution (eq. 12) */
+#define EGO_COST_MATCH_POINT 560u        /* ITCP / coarse probe: one point located */
+#define EGO_COST_MATCH_STEP 24u          /* ... plus per scan point walked past */
+#define EGO_COST_MATCH_SEGMENT 360u      /* ... plus per segment distance computed */
+#define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_SCAN 20000u             /* per scan: bookkeeping, choosing, the output */
 
 /* The most one located point can cost: its walk on both sides. */

@@ -88,15 +88,20 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
  * output line fall into EGO_STAGE_OTHER with the estimator's own
  * bookkeeping. */
 static uint64_t stage_insns[EGO_STAGE_COUNT];
+static uint64_t stage_units[EGO_STAGE_COUNT];
 static ego_stage_t stage_now = EGO_STAGE_OTHER;
 static uint64_t stage_mark;
+static uint64_t units_mark;
 
-void ego_profile_stage(ego_stage_t stage)
+void ego_profile_stage(ego_stage_t stage, uint64_t units)
 {
     const uint64_t t = target_instructions();
     stage_insns[stage_now] += t - stage_mark;
+    /* The meter starts at 0 each scan. */
+    stage_units[stage_now] += (units >= units_mark) ? units - units_mark : units;
     stage_now = stage;
     stage_mark = t;
+    units_mark = units;
 }
 #endif
 
@@ -125,12 +130,18 @@ int main(void)
     report_field(" max=", (uint64_t)insns_max * TARGET_INSNS_PER_TICK);
     report_field(" scans=", ego_loop_stats(&loop)->scans);
 #if defined(EGO_PROFILE)
-    ego_profile_stage(EGO_STAGE_OTHER);
+    ego_profile_stage(EGO_STAGE_OTHER, units_mark);
     static const char *const names[EGO_STAGE_COUNT] = {
-        "\n# stage_insns prepare=", " tangents=", " histogram=", " correlate=",
+        " prepare=", " tangents=", " histogram=", " correlate=",
         " register=", " coarse=", " other="};
+    target_uart_puts("\n# stage_insns");
     for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
         report_field(names[k], stage_insns[k]);
+    }
+    /* The units (ego_work.h) charged in each stage, to set against them. */
+    target_uart_puts("\n# stage_units");
+    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
+        report_field(names[k], stage_units[k]);
     }
 #endif
 #if defined(TARGET_PC_SAMPLING)

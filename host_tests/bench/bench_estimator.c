@@ -1,6 +1,6 @@
 /* bench_estimator.c - cost of the estimator per scan on the host.
  *
- *   bench_estimator [--icp] [--mode HEX] [--once] [--budget none] [--trace] STREAM
+ *   bench_estimator [--icp] [--mode HEX] [--once] [--budget none|default|U] [--trace] STREAM
  *
  * Decodes every B0 scan of a recorded stream into memory first, then runs
  * ego_process over them in order (scan k at k times the LMS mode's period),
@@ -97,7 +97,14 @@ int main(int argc, char **argv)
             trace = 1;
         } else if (strcmp(argv[i], "--budget") == 0 && i + 1 < argc) {
             i++;
-            params.work_per_s = 0u; /* only "none" */
+            if (strcmp(argv[i], "none") == 0) {
+                params.work_per_s = 0u;
+            } else {
+                ego_budget_defaults(&params);
+                if (strcmp(argv[i], "default") != 0) {
+                    params.work_per_s = (uint32_t)strtoul(argv[i], NULL, 10);
+                }
+            }
         } else if (strcmp(argv[i], "--once") == 0) {
             once = 1;
         } else if (strcmp(argv[i], "--mode") == 0 && i + 1 < argc) {

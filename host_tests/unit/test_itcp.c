@@ -358,25 +358,24 @@ static void test_itcp_sample_stride_caps_the_points(void)
 
 /* A registration of the run tests: scans, start and parameters. */
 typedef struct {
-    const synth_wall_t *walls;
-    unsigned nwalls;
     double dx, dy, dtheta_deg; /* the current scan's pose */
     double init_err_deg;       /* the initial rotation's error */
     double init_x;             /* the initial translation */
+    uint16_t max_points;
+    bool corridor;             /* the corridor, else the room */
     bool weighted;
     bool hold_rotation;
     bool tangent_gate;
-    uint16_t max_points;
 } run_case_t;
 
 static const run_case_t g_run_cases[] = {
-    {NULL, 0u, 0.25, 0.20, 8.0, 0.3, 0.0, true, false, false, 0u},
-    {NULL, 0u, 0.10, 0.02, 1.0, 0.3, 0.0, false, false, false, 0u},
-    {NULL, 0u, 0.35, -0.12, -4.0, 0.3, 0.0, true, false, true, 0u},
-    {NULL, 0u, 0.20, -0.10, 2.9, 0.0, 0.0, true, true, false, 0u},
-    {NULL, 0u, 0.35, -0.12, -4.0, 0.3, 0.0, true, false, false, 40u},
-    {NULL, 1u, 0.30, 0.10, 1.1, 0.0, 0.0, true, false, false, 0u}, /* the corridor */
-    {NULL, 0u, 0.0, 0.0, 0.0, 0.0, 50.0, true, false, false, 0u},  /* too far: few matches */
+    {0.25, 0.20, 8.0, 0.3, 0.0, 0u, false, true, false, false},
+    {0.10, 0.02, 1.0, 0.3, 0.0, 0u, false, false, false, false},
+    {0.35, -0.12, -4.0, 0.3, 0.0, 0u, false, true, false, true},
+    {0.20, -0.10, 2.9, 0.0, 0.0, 0u, false, true, true, false},
+    {0.35, -0.12, -4.0, 0.3, 0.0, 40u, false, true, false, false},
+    {0.30, 0.10, 1.1, 0.0, 0.0, 0u, true, true, false, false}, /* the corridor */
+    {0.0, 0.0, 0.0, 0.0, 50.0, 0u, false, true, false, false},  /* too far: few matches */
 };
 
 static itcp_params_t g_run_params;
@@ -385,7 +384,7 @@ static itcp_params_t g_run_params;
  * to start from. */
 static void run_case_setup(const run_case_t *c, ego_pose_t *initial, fx_bam32_t *main_direction)
 {
-    const bool corridor = c->nwalls == 1u;
+    const bool corridor = c->corridor;
     const synth_wall_t *walls = corridor ? synth_corridor : synth_room;
     const unsigned nwalls = corridor ? synth_corridor_walls : synth_room_walls;
     const double th = c->dtheta_deg * FX_HOST_PI / 180.0;
