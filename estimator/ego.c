@@ -655,13 +655,16 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
     return params->work_per_scan + interval * params->work_per_s / US_PER_S;
 }
 
-/* Prepares the scan into slot cur with its chord tangents and AH
- * histogram; false (nothing changed) when the budget cannot pay for it. */
+/* Prepares the scan into slot cur with its tangents and AH histogram; false (nothing changed) when the budget cannot pay for it. */
 static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                     uint8_t cur)
 {
+    /* Unbounded, a plain fit per point (on noisy real data the chords sort
+     * too many points into the wrong group); under a budget, the chords. */
+    const bool plain = params->work_per_s == 0u;
+    const uint32_t tangent_cost = plain ? EGO_COST_TFIT_PLAIN : EGO_COST_TFIT_CHORD;
     const uint32_t cost =
-        (uint32_t)scan->count * (EGO_COST_PREP_BEAM + EGO_COST_TFIT_CHORD + EGO_COST_AH_POINT);
+        (uint32_t)scan->count * (EGO_COST_PREP_BEAM + tangent_cost + EGO_COST_AH_POINT);
     if (!ego_work_allows(&state->work, cost)) {
         return false;
     }
@@ -670,8 +673,14 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_PREP_BEAM);
     (void)ego_scan_prepare(scan, &params->prep, current);
     STAGE(EGO_STAGE_TANGENTS);
-    ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_TFIT_CHORD);
-    ego_tfit_chord_scan(current);
+    ego_work_spend(&state->work, (uint32_t)scan->count * tangent_cost);
+    if (plain) {
+        ego_tfit_params_t fit = params->tfit;
+        fit.passes = 0u;
+        ego_tfit_fit_scan(current, &fit);
+    } else {
+        ego_tfit_chord_scan(current);
+    }
     STAGE(EGO_STAGE_HISTOGRAM);
     ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_AH_POINT);
     ego_hist_params_t ah = params->hist;

@@ -25,6 +25,7 @@ typedef struct {
 
 /* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
 #define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per input beam */
+#define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
 #define EGO_COST_TFIT_CHORD 400u         /* one chord tangent (one point) */
 #define EGO_COST_TFIT_ROBUST 6500u       /* one robust tangent fit (plain + 2 passes) */
 #define EGO_COST_AH_POINT 150u           /* the AH histogram, per point */
