@@ -21,14 +21,7 @@ void ego_defaults(ego_params_t *params)
     ego_tfit_defaults(&params->tfit);
     ego_hist_defaults(&params->hist);
     ego_itcp_defaults(&params->itcp);
-    /* Tracking starts from a prediction good to millimetres at sensor rate
-     * (docs/estimator.md): a 0.3 m first radius, the shrinking iterations
-     * on 60 points, then every point. */
-    ego_itcp_defaults(&params->track);
-    params->track.radius_start = FX_Q16_16_C(0.3);
-    params->track.max_points = 24u;
-    params->track.max_iterations = 6u;
-    params->track.fine_iterations = 1u;
+    ego_track_defaults(&params->track);
     ego_coarse_defaults(&params->coarse);
     params->coarse_window_first = FX_Q16_16_C(4.0);
     params->coarse_step_first = FX_Q16_16_C(0.2);
@@ -77,7 +70,7 @@ void ego_reset(ego_state_t *state)
  * known and dt_us is at most MAX_PREDICTION_RATIO times its own interval
  * (beyond that, constant velocity is a guess: the vehicle may have
  * stopped, and a scaled-up motion would centre every search far off). */
-#define MAX_PREDICTION_RATIO 4u
+#define MAX_PREDICTION_RATIO 32u
 
 static bool motion_known(const ego_state_t *state, uint32_t dt_us)
 {
@@ -655,25 +648,67 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
     return params->work_per_scan + interval * params->work_per_s / US_PER_S;
 }
 
+/* Tracking's work per point it registers: its passes at most (the
+ * iterations, the fine run, the statistics) of a located point with a
+ * short walk. */
+#define TRACK_POINT_COST (EGO_COST_TRACK_POINT + 4u * EGO_COST_MATCH_STEP)
+
+/* Passes tracking typically takes from a good prediction: a few
+ * iterations to converge, two or three fine ones, the statistics. A
+ * tracking that takes more may run out of budget: the search then takes
+ * the scan. */
+#define TRACK_PASSES 7u
+
+/* Every how many beams a point is kept so that preparing the points and
+ * tracking them fits the scan's budget (1: all; at most 8, ego_scan.h). */
+static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t *scan,
+                                uint32_t prepare_cost)
+{
+    const uint64_t left = ego_work_left(&state->work);
+    const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * TRACK_POINT_COST;
+    const uint64_t fixed = EGO_COST_SCAN + (uint64_t)scan->count * EGO_COST_BEAM_SKIPPED;
+    const uint64_t points = (left > fixed) ? (left - fixed) / per_point : 0u;
+    if (points >= scan->count) {
+        return 1u;
+    }
+    if (points == 0u) {
+        return 8u;
+    }
+    const uint64_t step = (scan->count + points - 1u) / points;
+    return (step > 8u) ? 8u : (uint32_t)step;
+}
+
 /* Prepares the scan into slot cur with its tangents and AH histogram; false (nothing changed) when the budget cannot pay for it. */
 static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                     uint8_t cur)
 {
     /* Unbounded, a plain fit per point (on noisy real data the chords sort
-     * too many points into the wrong group); under a budget, the chords. */
+     * too many points into the wrong group); under a budget, the chords,
+     * and only as many beams as the budget lets tracking register. */
     const bool plain = params->work_per_s == 0u;
     const uint32_t tangent_cost = plain ? EGO_COST_TFIT_PLAIN : EGO_COST_TFIT_CHORD;
-    const uint32_t cost =
-        (uint32_t)scan->count * (EGO_COST_PREP_BEAM + tangent_cost + EGO_COST_AH_POINT);
+    const uint32_t per_point = EGO_COST_PREP_BEAM + tangent_cost + EGO_COST_AH_POINT;
+    ego_prep_params_t prep = params->prep;
+    uint32_t kept = scan->count;
+    if (!plain) {
+        const uint32_t step = beams_per_point(state, scan, per_point);
+        const uint64_t first_step = ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u);
+        const uint64_t spacing = first_step * step;
+        prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
+                                ? (fx_bam32_t)spacing
+                                : prep.beam_spacing;
+        kept = (scan->count + step - 1u) / step;
+    }
+    const uint32_t cost = kept * per_point + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED;
     if (!ego_work_allows(&state->work, cost)) {
         return false;
     }
     ego_scan_t *current = &state->slot[cur];
     STAGE(EGO_STAGE_PREPARE);
-    ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_PREP_BEAM);
-    (void)ego_scan_prepare(scan, &params->prep, current);
+    ego_work_spend(&state->work, kept * EGO_COST_PREP_BEAM + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED);
+    (void)ego_scan_prepare(scan, &prep, current);
     STAGE(EGO_STAGE_TANGENTS);
-    ego_work_spend(&state->work, (uint32_t)scan->count * tangent_cost);
+    ego_work_spend(&state->work, kept * tangent_cost);
     if (plain) {
         ego_tfit_params_t fit = params->tfit;
         fit.passes = 0u;
@@ -682,7 +717,7 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
         ego_tfit_chord_scan(current);
     }
     STAGE(EGO_STAGE_HISTOGRAM);
-    ego_work_spend(&state->work, (uint32_t)scan->count * EGO_COST_AH_POINT);
+    ego_work_spend(&state->work, kept * EGO_COST_AH_POINT);
     ego_hist_params_t ah = params->hist;
     ah.kind = EGO_HIST_AH;
     (void)ego_hist_build(current, &ah, &state->hist[cur]);
@@ -698,16 +733,15 @@ static bool track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
     const ego_scan_t *last = &state->slot[state->last];
     const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
     STAGE(EGO_STAGE_REGISTER);
-    /* Unbounded (offline), tracking registers as the search does. */
-    const itcp_params_t *tp = (params->work_per_s == 0u) ? &params->itcp : &params->track;
-    ego_itcp_run_start(&state->run, last, &state->slot[cur], main_direction, predicted, false, tp);
-    const bool done = ego_itcp_run_step(&state->run, &state->work);
+    ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, predicted,
+                    &params->track);
+    const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
     if (!done) {
         return false;
     }
     ego_itcp_result_t r;
-    const ego_itcp_status_t st = ego_itcp_run_result(&state->run, &r);
+    const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
     if (!good_enough(params, st, &r, false)) {
         return false;
     }

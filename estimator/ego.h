@@ -58,6 +58,7 @@
 #include "ego_hist.h"
 #include "ego_itcp.h"
 #include "ego_tfit.h"
+#include "ego_track.h"
 #include "ego_work.h"
 
 /* Output flags. */
@@ -77,7 +78,7 @@ typedef struct {
     ego_tfit_params_t tfit;      /* the search's robust tangents (tracking fits plainly) */
     ego_hist_params_t hist;      /* the search's histogram (tracking's main direction: AH) */
     itcp_params_t itcp;          /* the search's registrations */
-    itcp_params_t track;         /* tracking: from the prediction, thinned first */
+    ego_track_params_t track;    /* tracking: point-to-line from the prediction */
     ego_coarse_params_t coarse;  /* its window is centred on the prediction */
     fx_q16_16_t coarse_window_first; /* window when no motion is known yet, default 4 m, */
     fx_q16_16_t coarse_step_first;   /* searched at this step, default 0.2 m */
@@ -173,7 +174,8 @@ typedef struct {
     bool have_previous;      /* the time of the previous scan, for the budget */
     uint32_t previous_time_us;
     ego_work_t work;         /* this scan's meter */
-    ego_itcp_run_t run;      /* the registration in progress */
+    ego_itcp_run_t run;      /* the search's registration in progress */
+    ego_track_run_t tracking;
     ego_search_t search;
 } ego_state_t;
 

@@ -24,7 +24,8 @@ typedef struct {
 } ego_work_t;
 
 /* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
-#define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per input beam */
+#define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per beam kept ... */
+#define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
 #define EGO_COST_TFIT_CHORD 400u         /* one chord tangent (one point) */
 #define EGO_COST_TFIT_ROBUST 6500u       /* one robust tangent fit (plain + 2 passes) */
@@ -35,6 +36,7 @@ typedef struct {
 #define EGO_COST_MATCH_POINT 560u        /* ITCP / coarse probe: one point located */
 #define EGO_COST_MATCH_STEP 24u          /* ... plus per scan point walked past */
 #define EGO_COST_MATCH_SEGMENT 360u      /* ... plus per segment distance computed */
+#define EGO_COST_TRACK_POINT 650u        /* tracking (ego_track.c): one point matched */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_SCAN 20000u             /* per scan: bookkeeping, choosing, the output */
 

@@ -1,0 +1,365 @@
+/* ego_track.c - see ego_track.h. */
+#include "ego_track.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "ego_fx_math.h"
+
+/* The walk from the previous point's place: this many steps, then a
+ * binary search (a bounded step whatever the hint). */
+#define WALK_MAX 16u
+
+/* 2^32 / (2 pi) / 2^16 = 10430.378: radians Q16.16 -> binary angle, as
+ * (x * 1335088) >> 7. */
+#define BAM_PER_RAD_Q16_X128 1335088
+
+void ego_track_defaults(ego_track_params_t *params)
+{
+    memset(params, 0, sizeof *params);
+    params->radius_start = FX_Q16_16_C(0.3);
+    params->radius = FX_Q16_16_C(0.05);
+    params->max_iterations = 8u;
+    params->converge_translation = FX_Q16_16_C(0.0002);
+    params->converge_rotation = FX_BAM32_DEG_C(0.002);
+    params->inlier_distance = FX_Q16_16_C(0.10);
+    params->main_tolerance = FX_BAM32_DEG_C(10.0);
+    params->aperture_ratio = (fx_q2_30_t)(FX_Q2_30_ONE / 5);
+    params->min_matches = 10u;
+}
+
+static int64_t abs64(int64_t v)
+{
+    return (v < 0) ? -v : v;
+}
+
+static int64_t rel_bearing(const ego_track_run_t *run, uint16_t j)
+{
+    return fx_bam32_diff(run->last->bearing[j], run->ref);
+}
+
+static void begin_pass(ego_track_run_t *run)
+{
+    memset(run->group, 0, sizeof run->group);
+    fx_sincos(run->pose.theta, &run->sn, &run->cs);
+    run->next = 0u;
+    run->hint = (uint16_t)(run->last->count / 2u);
+}
+
+void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
+                     fx_bam32_t main_direction, const ego_pose_t *initial,
+                     const ego_track_params_t *params)
+{
+    memset(run, 0, sizeof *run);
+    run->last = last;
+    run->current = current;
+    run->params = params;
+    run->main_direction = main_direction & (FX_BAM32_HALF - 1u);
+    run->pose = *initial;
+    run->radius = params->radius_start;
+    if (last->count < 2u || current->count == 0u || params->max_iterations == 0u) {
+        run->finished = true;
+        run->failed = true;
+        return;
+    }
+    run->ref = last->bearing[0] + (last->bearing[last->count - 1u] - last->bearing[0]) / 2u;
+    begin_pass(run);
+}
+
+/* The first last-scan point whose bearing is at least rel: a walk from the
+ * hint of at most WALK_MAX steps, then a binary search. *steps counts the
+ * work. */
+static uint16_t locate(const ego_track_run_t *run, int64_t rel, uint32_t *steps)
+{
+    const uint16_t n = run->last->count;
+    uint16_t j = run->hint;
+    for (uint32_t k = 0u; k < WALK_MAX; k++) {
+        (*steps)++;
+        if (j < n && rel_bearing(run, j) < rel) {
+            j++;
+        } else if (j > 0u && rel_bearing(run, (uint16_t)(j - 1u)) >= rel) {
+            j--;
+        } else {
+            return j;
+        }
+    }
+    uint16_t lo = 0u;
+    uint16_t hi = n;
+    while (lo < hi) {
+        (*steps)++;
+        const uint16_t mid = (uint16_t)((lo + hi) / 2u);
+        if (rel_bearing(run, mid) < rel) {
+            lo = (uint16_t)(mid + 1u);
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+/* A point's distance to one segment of the last scan. */
+typedef struct {
+    bool ok;
+    int32_t nx; /* the segment's unit normal, Q1.14 */
+    int32_t ny;
+    int64_t d;  /* signed distance, Q16.16 m */
+} segment_fit_t;
+
+/* The point (qx, qy) against segment a -> a + 1: true when the segment is a
+ * surface, the point lies along it (at most a quarter of it beyond either
+ * end) and within the run's radius of its line. */
+static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_q16_16_t qx, fx_q16_16_t qy,
+                        segment_fit_t *f)
+{
+    const ego_scan_t *l = run->last;
+    if (a + 1u >= l->count || (l->flags[a] & EGO_LINK_BREAK) != 0u) {
+        return false;
+    }
+    const int64_t sx = (int64_t)l->x[a + 1u] - l->x[a];
+    const int64_t sy = (int64_t)l->y[a + 1u] - l->y[a];
+    const int64_t ex = (int64_t)qx - l->x[a];
+    const int64_t ey = (int64_t)qy - l->y[a];
+    const int64_t along = ex * sx + ey * sy;
+    const int64_t length_sq = sx * sx + sy * sy;
+    if (length_sq == 0 || 4 * along < -length_sq || 4 * along > 5 * length_sq) {
+        return false;
+    }
+    /* |s| < 2^24 (Q16.16 of 256 m): the products stay in range. */
+    const int64_t length = fx_sqrt_u64((uint64_t)length_sq);
+    if (length == 0) {
+        return false;
+    }
+    f->nx = (int32_t)((-sy * 16384) / length);
+    f->ny = (int32_t)((sx * 16384) / length);
+    f->d = (ex * f->nx + ey * f->ny) / 16384;
+    f->ok = abs64(f->d) <= run->radius;
+    return f->ok;
+}
+
+/* Matches current point i at the run's pose into its group's sums. */
+static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
+{
+    const ego_scan_t *l = run->last;
+    const ego_scan_t *c = run->current;
+    const ego_track_params_t *params = run->params;
+    fx_q16_16_t qx;
+    fx_q16_16_t qy;
+    ego_pose_apply(&run->pose, run->sn, run->cs, c->x[i], c->y[i], &qx, &qy);
+    const bool has_tc = (c->flags[i] & EGO_POINT_HAS_TANGENT) != 0u;
+    const fx_bam32_t tc = (c->tangent[i] + run->pose.theta) & (FX_BAM32_HALF - 1u);
+    const bool on_main =
+        has_tc && fx_line_angle_diff(tc, run->main_direction) <= params->main_tolerance;
+    ego_track_sums_t *g = &run->group[on_main ? 0 : 1];
+    g->points++;
+
+    const int64_t rel =
+        fx_bam32_diff(fx_atan2((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
+    const uint16_t j = locate(run, rel, steps);
+    run->hint = j;
+    /* The segment j - 1 -> j spans the bearing; when it does not take the
+     * point (a break, an end), its neighbours on either side may. */
+    segment_fit_t best;
+    best.ok = false;
+    best.d = 0;
+    for (int32_t k = 0; k < 3; k++) {
+        const int32_t a = (k == 0) ? (int32_t)j - 1 : (k == 1) ? (int32_t)j - 2 : (int32_t)j;
+        if (k > 0 && best.ok) {
+            break;
+        }
+        segment_fit_t f;
+        if (a >= 0 && fit_segment(run, (uint16_t)a, qx, qy, &f) &&
+            (!best.ok || abs64(f.d) < abs64(best.d))) {
+            best = f;
+        }
+        (*steps)++;
+    }
+    if (!best.ok) {
+        return;
+    }
+    const int32_t nx = best.nx;
+    const int32_t ny = best.ny;
+    const int64_t d = best.d;
+    /* The lever arm: the point turned, without the translation. */
+    const int64_t mx = (int64_t)qx - run->pose.x;
+    const int64_t my = (int64_t)qy - run->pose.y;
+    const int64_t arm = (ny * mx - nx * my) / 16384; /* Q16.16 m */
+    g->n++;
+    g->a[0] += (int64_t)nx * nx;  /* Q28 */
+    g->a[1] += (int64_t)nx * ny;
+    g->a[2] += (int64_t)nx * arm; /* Q30 m */
+    g->a[3] += (int64_t)ny * ny;
+    g->a[4] += (int64_t)ny * arm;
+    g->a[5] += arm * arm;         /* Q32 m^2 */
+    g->b[0] += (int64_t)nx * d;   /* Q30 m */
+    g->b[1] += (int64_t)ny * d;
+    g->b[2] += arm * d;           /* Q32 m^2 */
+    const uint64_t d_sq = (uint64_t)(d * d);
+    const uint64_t inlier_sq = (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
+    g->sum_sq += d_sq;
+    if (d_sq <= inlier_sq) {
+        g->inliers++;
+        g->fit += inlier_sq - d_sq;
+    }
+}
+
+/* num / den in Q16.16 (den > 0), both scaled down together while num << 16
+ * would overflow. */
+static int64_t div_q16(int64_t num, int64_t den)
+{
+    while (abs64(num) >= ((int64_t)1 << 46) && den > 1) {
+        num /= 2;
+        den /= 2;
+    }
+    return (num * 65536) / den;
+}
+
+/* The step (dx, dy, dtheta) from the pass's normal equations: each group's
+ * means, the groups averaged (eq. 10's equal weights), in Q14, damped; false
+ * when there is nothing to solve. */
+static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t *dy, int64_t *dtheta)
+{
+    int64_t a[6] = {0, 0, 0, 0, 0, 0};
+    int64_t b[3] = {0, 0, 0};
+    int64_t groups = 0;
+    for (unsigned k = 0u; k < 2u; k++) {
+        const ego_track_sums_t *g = &run->group[k];
+        if (g->n <= 0) {
+            continue;
+        }
+        groups++;
+        for (unsigned m = 0u; m < 6u; m++) {
+            a[m] += g->a[m] / g->n;
+        }
+        for (unsigned m = 0u; m < 3u; m++) {
+            b[m] += g->b[m] / g->n;
+        }
+    }
+    if (groups == 0) {
+        return false;
+    }
+    /* Q28, Q30 m, Q32 m^2 -> Q14 throughout. */
+    const int64_t q28 = groups << 14;
+    const int64_t q30 = groups << 16;
+    const int64_t q32 = groups << 18;
+    const int64_t a00 = a[0] / q28;
+    const int64_t a01 = a[1] / q28;
+    const int64_t a02 = a[2] / q30;
+    const int64_t a11_raw = a[3] / q28;
+    const int64_t a12 = a[4] / q30;
+    const int64_t a22_raw = a[5] / q32;
+    const int64_t b0 = -b[0] / q30;
+    const int64_t b1 = -b[1] / q30;
+    const int64_t b2 = -b[2] / q32;
+    /* Damping: a direction the scans barely see stays where it is. */
+    const int64_t damp_t = (a00 + a11_raw) / 1000 + 1;
+    const int64_t damp_r = a22_raw / 1000 + 1;
+    const int64_t a00d = a00 + damp_t;
+    const int64_t a11 = a11_raw + damp_t;
+    const int64_t a22 = a22_raw + damp_r;
+    /* Cramer's rule with the cofactors of the symmetric matrix. */
+    const int64_t c00 = a11 * a22 - a12 * a12;
+    const int64_t c01 = a02 * a12 - a01 * a22;
+    const int64_t c02 = a01 * a12 - a02 * a11;
+    const int64_t c11 = a00d * a22 - a02 * a02;
+    const int64_t c12 = a01 * a02 - a00d * a12;
+    const int64_t c22 = a00d * a11 - a01 * a01;
+    const int64_t det = a00d * c00 + a01 * c01 + a02 * c02;
+    if (det <= 0) {
+        return false;
+    }
+    *dx = div_q16(c00 * b0 + c01 * b1 + c02 * b2, det);
+    *dy = div_q16(c01 * b0 + c11 * b1 + c12 * b2, det);
+    *dtheta = div_q16(c02 * b0 + c12 * b1 + c22 * b2, det); /* Q16.16 rad */
+    return true;
+}
+
+static int64_t matches(const ego_track_run_t *run)
+{
+    return run->group[0].n + run->group[1].n;
+}
+
+/* The end of a pass: the step, convergence, the next pass or the end. */
+static void close_pass(ego_track_run_t *run)
+{
+    const ego_track_params_t *params = run->params;
+    int64_t dx = 0;
+    int64_t dy = 0;
+    int64_t dtheta = 0;
+    if (matches(run) < (int64_t)params->min_matches || !solve(run, &dx, &dy, &dtheta)) {
+        run->finished = true;
+        run->failed = true;
+        return;
+    }
+    const int64_t turn = (dtheta * BAM_PER_RAD_Q16_X128) / 128;
+    run->pose.x = fx_sat_s32((int64_t)run->pose.x + dx);
+    run->pose.y = fx_sat_s32((int64_t)run->pose.y + dy);
+    run->pose.theta += (fx_bam32_t)(uint32_t)fx_sat_s32(turn);
+    run->iteration++;
+    const bool still = abs64(dx) < params->converge_translation &&
+                       abs64(dy) < params->converge_translation &&
+                       abs64(turn) < (int64_t)params->converge_rotation;
+    if ((still && run->iteration > 1u) || run->iteration >= params->max_iterations) {
+        run->converged = still;
+        run->finished = true;
+        return;
+    }
+    /* 0.3 m, then a third of it each pass down to the radius. */
+    run->radius = (run->radius / 3 > params->radius) ? run->radius / 3 : params->radius;
+    begin_pass(run);
+}
+
+bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
+{
+    const uint32_t point_max = EGO_COST_TRACK_POINT + (WALK_MAX + 16u) * EGO_COST_MATCH_STEP;
+    while (!run->finished) {
+        if (run->next < run->current->count) {
+            if (!ego_work_allows(work, point_max)) {
+                return false;
+            }
+            uint32_t steps = 0u;
+            match_point(run, run->next, &steps);
+            run->next++;
+            ego_work_spend(work, EGO_COST_TRACK_POINT + steps * EGO_COST_MATCH_STEP);
+        } else {
+            if (!ego_work_allows(work, EGO_COST_SOLVE)) {
+                return false;
+            }
+            ego_work_spend(work, EGO_COST_SOLVE);
+            close_pass(run);
+        }
+    }
+    return true;
+}
+
+ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result)
+{
+    memset(result, 0, sizeof *result);
+    result->pose = run->pose;
+    if (!run->finished) {
+        return EGO_ITCP_ERR_UNFINISHED;
+    }
+    result->iterations = run->iteration;
+    result->converged = run->converged;
+    /* The statistics of the last pass (at the pose before its small step). */
+    const ego_track_sums_t *g = run->group;
+    const int64_t n = matches(run);
+    result->matches = (uint16_t)n;
+    result->n_main = (uint16_t)g[0].n;
+    result->n_non_main = (uint16_t)g[1].n;
+    result->inliers = (uint16_t)(g[0].inliers + g[1].inliers);
+    const uint64_t inlier_sq =
+        (uint64_t)((int64_t)run->params->inlier_distance * run->params->inlier_distance);
+    for (unsigned k = 0u; k < 2u; k++) {
+        result->group_points[k] = (uint16_t)g[k].points;
+        const uint64_t full = (uint64_t)g[k].points * inlier_sq;
+        result->group_fit[k] =
+            (full == 0u) ? 0 : (fx_q2_30_t)((g[k].fit >> 4) * (1ull << 30) / (full >> 4));
+    }
+    if (n > 0) {
+        result->residual = (fx_q16_16_t)fx_sqrt_u64((g[0].sum_sq + g[1].sum_sq) / (uint64_t)n);
+    }
+    result->aperture = g[0].n > 0 &&
+                       ((int64_t)g[1].n << 30) < (int64_t)run->params->aperture_ratio * g[0].n;
+    return (run->failed || n < (int64_t)run->params->min_matches) ? EGO_ITCP_ERR_FEW_MATCHES
+                                                                  : EGO_ITCP_OK;
+}

@@ -1,0 +1,99 @@
+/* ego_track.h - tracking: the cheap local registration of a scan against the
+ * last one from a good prediction (issue 15's "track, then search").
+ *
+ * Each iteration moves every current point by the pose guess into the last
+ * scan's frame, finds the last scan's segment on its bearing from the last
+ * scanner (projective association: a short walk from the previous point's
+ * place, no search of the neighbourhood) and measures its signed distance d
+ * to the line through the segment's nearer end, along that end's tangent.
+ * Matches with |d| under the radius enter the normal equations of the
+ * point-to-line least squares (Gauss-Newton in (x, y, theta)), per group as
+ * ITCP's eq. 10: points whose turned tangent lies along the main direction,
+ * and the others, each group with half the weight. A small damping of the
+ * diagonal keeps a direction the scans do not constrain (along a corridor)
+ * at the prediction instead of letting it drift. Point-to-line converges in
+ * a few iterations from a prediction good to centimetres, where ITCP's
+ * point-to-point needs a dozen; the search (ego.h) still uses ITCP.
+ *
+ * The result is an ego_itcp_result_t, so the estimator judges both alike:
+ * the inlier shares per group (max(0, 1 - d^2 / inlier_distance^2) per
+ * point, at the last pass), matches, RMS distance, aperture.
+ *
+ * Resumable: a run works point by point within a work meter (ego_work.h)
+ * and goes on at the next point on the next call; the scans and params must
+ * stay where they are, unchanged, until it is finished.
+ *
+ * Fixed point: normals Q1.14, lever arms Q16.16 m, normal-equation sums in
+ * int64 (each term below 2^45, at most 2^14 points), solved by Cramer's
+ * rule on Q14 means (products below 2^56); docs/fixed-point.md.
+ */
+#ifndef EGO_TRACK_H
+#define EGO_TRACK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "ego_itcp.h"
+#include "ego_pose.h"
+#include "ego_scan.h"
+#include "ego_work.h"
+
+typedef struct {
+    fx_q16_16_t radius_start;         /* |d| accepted in the first iteration, m; 0.3 */
+    fx_q16_16_t radius;               /* ... in the following ones, m; 0.1 */
+    uint8_t max_iterations;           /* 8 */
+    fx_q16_16_t converge_translation; /* a step this small has converged, m; 0.0001 */
+    fx_bam32_t converge_rotation;     /* ... and this, 0.001 deg */
+    fx_q16_16_t inlier_distance;      /* of the inlier shares, m; 0.10 (as ITCP's) */
+    fx_bam32_t main_tolerance;        /* tangent this close to the main direction:
+                                         main group; 10 deg (as ITCP's) */
+    fx_q2_30_t aperture_ratio;        /* n_non / n_main below: aperture; 0.2 */
+    uint16_t min_matches;             /* fewer: the registration fails; 10 */
+} ego_track_params_t;
+
+void ego_track_defaults(ego_track_params_t *params);
+
+/* One group's sums (ego_track.c). Private. */
+typedef struct {
+    int64_t n;
+    int64_t a[6]; /* J^T J: xx, xy, xt, yy, yt, tt */
+    int64_t b[3]; /* J^T d */
+    uint64_t sum_sq;
+    uint64_t fit;
+    uint32_t inliers;
+    uint32_t points; /* current points in the group, matched or not */
+} ego_track_sums_t;
+
+typedef struct {
+    /* Private. */
+    const ego_scan_t *last;
+    const ego_scan_t *current;
+    const ego_track_params_t *params;
+    fx_bam32_t main_direction;
+    fx_bam32_t ref;   /* middle bearing of the last scan */
+    ego_pose_t pose;
+    fx_q2_30_t sn;
+    fx_q2_30_t cs;
+    fx_q16_16_t radius;
+    uint16_t next;    /* next current point of the pass */
+    uint16_t hint;    /* where the last point was found */
+    uint8_t iteration;
+    bool finished;
+    bool converged;
+    bool failed;
+    ego_track_sums_t group[2];
+} ego_track_run_t;
+
+void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
+                     fx_bam32_t main_direction, const ego_pose_t *initial,
+                     const ego_track_params_t *params);
+
+/* Works until finished (true) or the meter cannot pay for the next step:
+ * a point (at most EGO_COST_TRACK_POINT_MAX) or a solution. */
+bool ego_track_step(ego_track_run_t *run, ego_work_t *work);
+
+/* The result of a finished run (EGO_ITCP_ERR_FEW_MATCHES: too few
+ * matches, or the equations were singular; the pose is then the last). */
+ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result);
+
+#endif /* EGO_TRACK_H */
