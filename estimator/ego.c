@@ -208,10 +208,25 @@ static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_st
 }
 
 
+/* Does a tracking result stand: good enough on its own, or converged
+ * where a trusted prediction said with half the inlier share (moving
+ * objects and thinned beams leave points unmatched that a wrong pose would
+ * not explain either). */
+static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
+                            const ego_itcp_result_t *r, const ego_pose_t *predicted,
+                            bool have_prediction)
+{
+    const bool confirmed = have_prediction && st == EGO_ITCP_OK && r->converged &&
+                           close_to(&r->pose, predicted, params) &&
+                           worst_share(r) >= params->accept_fraction / 2;
+    return confirmed || good_enough(params, st, r, false);
+}
+
 /* ---- The search (ego.h step 3), in steps within the meter. ---- */
 
 enum {
-    SEARCH_REFINE = 0, /* robust tangents and the search's histogram of both scans */
+    SEARCH_TRACKING = 0, /* the tracking the last budget did not finish */
+    SEARCH_REFINE,     /* robust tangents and the search's histogram of both scans */
     SEARCH_CORRELATE,  /* the rotation candidates */
     SEARCH_CANDIDATES, /* each candidate: from the prediction, then coarse passes */
     SEARCH_SWEEP,      /* no candidate fits: the rotation sweep */
@@ -220,6 +235,7 @@ enum {
 
 enum {
     ATTEMPT_COARSE = 0, /* the coarse search from start */
+    ATTEMPT_TRACK,      /* under a budget: the tracking registration */
     ATTEMPT_HELD,       /* ITCP with the rotation held */
     ATTEMPT_FREE,       /* ITCP, everything */
     ATTEMPT_DONE
@@ -229,6 +245,9 @@ enum {
  * histogram's filled bins (an upper bound of ego_hist_correlate's), and
  * the peaks. */
 #define COST_CORRELATE_BIN 60u
+
+/* Under a budget the coarse search scores this many points per pose. */
+#define LIGHT_SAMPLE_POINTS 24u
 
 static uint8_t other_slot(uint8_t slot)
 {
@@ -250,9 +269,9 @@ static void attempt_begin(ego_state_t *state, const ego_pose_t *start, bool with
         ego_coarse_start(&se->coarse, last, cur, se->main_direction, start, &se->cp);
         se->step = ATTEMPT_COARSE;
     } else {
-        se->step = ATTEMPT_HELD;
+        se->step = se->light ? ATTEMPT_TRACK : ATTEMPT_HELD;
     }
-    se->cursor = 0u; /* the held run is not started yet */
+    se->cursor = 0u; /* the registration is not started yet */
 }
 
 static bool attempt_run(ego_state_t *state, const ego_params_t *params)
@@ -269,9 +288,23 @@ static bool attempt_run(ego_state_t *state, const ego_params_t *params)
             }
             uint64_t score = 0u;
             ego_coarse_result(&se->coarse, &se->start, &score);
-            se->step = ATTEMPT_HELD;
+            se->step = se->light ? ATTEMPT_TRACK : ATTEMPT_HELD;
             break;
         }
+        case ATTEMPT_TRACK:
+            STAGE(EGO_STAGE_REGISTER);
+            if (se->cursor == 0u) {
+                ego_track_start(&state->tracking, last, cur, se->main_direction, &se->start,
+                                &params->track);
+                se->cursor = 1u;
+            }
+            if (!ego_track_step(&state->tracking, &state->work)) {
+                return false;
+            }
+            se->attempt_status = ego_track_result(&state->tracking, &se->attempt);
+            se->step = ATTEMPT_DONE;
+            STAGE(EGO_STAGE_OTHER);
+            return true;
         case ATTEMPT_HELD:
             STAGE(EGO_STAGE_REGISTER);
             if (se->cursor == 0u) {
@@ -312,8 +345,8 @@ static bool refine_slot(ego_state_t *state, const ego_params_t *params, uint8_t 
 {
     ego_search_t *se = &state->search;
     ego_scan_t *scan = &state->slot[slot];
-    if (state->refined[slot]) {
-        return true;
+    if (state->refined[slot] || se->light) {
+        return true; /* under a budget: the chord tangents and AH of the scan */
     }
     const uint16_t n = scan->count;
     const bool rebuild = params->hist.kind != EGO_HIST_AH;
@@ -389,7 +422,10 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
     ego_hist_match_t hm;
     ego_hist_correlation_result(&se->correlation_run, &hm);
     uint8_t n = 0u;
-    if (se->have_prior) {
+    /* The prior's rotation first; under a budget a trusted prediction's
+     * too (the histogram of a thinned scan is coarse). */
+    const bool prediction_first = se->have_prior || (se->light && se->have_prediction);
+    if (prediction_first) {
         se->rotation[n] = se->predicted.theta;
         se->correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
         n++;
@@ -401,7 +437,7 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
     }
     if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
         se->flags |= EGO_FLAG_LOW_CORRELATION;
-        if (!se->have_prior) {
+        if (!prediction_first) {
             se->rotation[n] = se->predicted.theta;
             se->correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
             n++;
@@ -445,6 +481,15 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
             cp.window = params->coarse_window_first;
             cp.step = params->coarse_step_first;
         }
+        if (se->light) {
+            /* Under a budget: the candidate's rotation only, a lean sample,
+             * steps twice as coarse (the tracking registration after it
+             * converges from 0.3 m). */
+            cp.rotation_steps = 0u;
+            cp.sample_points = LIGHT_SAMPLE_POINTS;
+            cp.step = 2 * cp.step;
+            cp.fine_step = 2 * cp.fine_step;
+        }
         const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
         attempt_begin(state, &start, true, &cp);
         return;
@@ -473,6 +518,25 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
     ego_search_t *se = &state->search;
     for (;;) {
         switch (se->stage) {
+        case SEARCH_TRACKING: {
+            STAGE(EGO_STAGE_REGISTER);
+            const bool done = ego_track_step(&state->tracking, &state->work);
+            STAGE(EGO_STAGE_OTHER);
+            if (!done) {
+                return false;
+            }
+            ego_itcp_result_t r;
+            const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
+            if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction)) {
+                se->best = r;
+                se->best_status = st;
+                se->main_direction = ego_hist_main_direction(&state->hist[state->last]);
+                se->stage = SEARCH_DONE;
+            } else {
+                se->stage = SEARCH_REFINE;
+            }
+            break;
+        }
         case SEARCH_REFINE:
             if (!refine_slot(state, params, state->last) ||
                 !refine_slot(state, params, other_slot(state->last))) {
@@ -500,7 +564,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
              * (its correlation is broad and has one maximum); sweep the
              * rotation instead. */
             if (se->step == ATTEMPT_DONE) {
-                if (se->have_prior || params->sweep_steps == 0u ||
+                if (se->light || se->have_prior || params->sweep_steps == 0u ||
                     good_enough(params, se->best_status, &se->best, false)) {
                     se->stage = SEARCH_DONE;
                     break;
@@ -531,7 +595,8 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
 }
 
 static void search_begin(ego_state_t *state, uint32_t time_us, uint32_t dt,
-                         const ego_pose_t *predicted, bool have_prior, bool have_prediction)
+                         const ego_pose_t *predicted, bool have_prior, bool have_prediction,
+                         bool light)
 {
     const bool known_motion = motion_known(state, dt);
     ego_search_t *se = &state->search;
@@ -545,6 +610,7 @@ static void search_begin(ego_state_t *state, uint32_t time_us, uint32_t dt,
     se->have_prediction = have_prediction;
     se->known_motion = known_motion;
     se->best_status = EGO_ITCP_ERR_FEW_MATCHES;
+    se->light = light;
 }
 
 /* ---- The output. ---- */
@@ -657,24 +723,29 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
  * iterations to converge, two or three fine ones, the statistics. A
  * tracking that takes more may run out of budget: the search then takes
  * the scan. */
-#define TRACK_PASSES 7u
+#define TRACK_PASSES 6u
 
 /* Every how many beams a point is kept so that preparing the points and
  * tracking them fits the scan's budget (1: all; at most 8, ego_scan.h). */
 static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t *scan,
                                 uint32_t prepare_cost)
 {
+    /* Beams with a range: the ones that become points. */
+    uint32_t valid = 0u;
+    for (uint16_t k = 0u; k < scan->count; k++) {
+        valid += (scan->range[k] != 0u) ? 1u : 0u;
+    }
     const uint64_t left = ego_work_left(&state->work);
     const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * TRACK_POINT_COST;
     const uint64_t fixed = EGO_COST_SCAN + (uint64_t)scan->count * EGO_COST_BEAM_SKIPPED;
     const uint64_t points = (left > fixed) ? (left - fixed) / per_point : 0u;
-    if (points >= scan->count) {
+    if (points >= valid) {
         return 1u;
     }
     if (points == 0u) {
         return 8u;
     }
-    const uint64_t step = (scan->count + points - 1u) / points;
+    const uint64_t step = (valid + points - 1u) / points;
     return (step > 8u) ? 8u : (uint32_t)step;
 }
 
@@ -726,9 +797,12 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     return true;
 }
 
-/* Tracking (ego.h step 2): true when it found the motion. */
-static bool track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
-                  const ego_pose_t *predicted, ego_output_t *out)
+typedef enum { TRACK_FOUND, TRACK_UNFINISHED, TRACK_FAILED } track_outcome_t;
+
+/* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
+ * then goes on with it first. */
+static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
+                             const ego_pose_t *predicted, bool have_prediction, ego_output_t *out)
 {
     const ego_scan_t *last = &state->slot[state->last];
     const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
@@ -738,14 +812,15 @@ static bool track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
     const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
     if (!done) {
-        return false;
+        return TRACK_UNFINISHED;
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-    if (!good_enough(params, st, &r, false)) {
-        return false;
+    if (!tracking_stands(params, st, &r, predicted, have_prediction)) {
+        return TRACK_FAILED;
     }
-    return output_match(st, &r, true, predicted, main_direction, out);
+    return output_match(st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
+                                                                                 : TRACK_FAILED;
 }
 
 ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
@@ -822,7 +897,8 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     /* Without a prediction, tracking from it (no motion, or the last one
      * scaled) is still the cheapest try: it stands only if it fits as well
      * as a tracked motion must. */
-    if (track(state, params, cur, &predicted, out)) {
+    const track_outcome_t tracked = track(state, params, cur, &predicted, have_prediction, out);
+    if (tracked == TRACK_FOUND) {
         set_velocities(out);
         advance(state, params, cur, time_us, out, true, true, &predicted, true);
         finish_output(state, out, time_us);
@@ -830,7 +906,11 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     }
     memset(out, 0, sizeof *out);
     out->points = current->count;
-    search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction);
+    search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction,
+                 params->work_per_s != 0u);
+    if (tracked == TRACK_UNFINISHED) {
+        state->search.stage = SEARCH_TRACKING;
+    }
     if (search_run(state, params)) {
         finish_search(state, params, false, out);
     } else {

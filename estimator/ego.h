@@ -126,6 +126,7 @@ void ego_budget_defaults(ego_params_t *params);
 /* The search in progress (ego.c). Private. */
 typedef struct {
     bool active;
+    bool light;              /* under a budget: no refinement, tracking registrations */
     uint8_t stage;
     uint8_t step;            /* within a candidate's attempt */
     uint8_t scans;           /* scans it has worked in */

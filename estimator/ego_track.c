@@ -19,7 +19,7 @@ void ego_track_defaults(ego_track_params_t *params)
     memset(params, 0, sizeof *params);
     params->radius_start = FX_Q16_16_C(0.3);
     params->radius = FX_Q16_16_C(0.05);
-    params->max_iterations = 8u;
+    params->max_iterations = 10u;
     params->converge_translation = FX_Q16_16_C(0.0002);
     params->converge_rotation = FX_BAM32_DEG_C(0.002);
     params->inlier_distance = FX_Q16_16_C(0.10);
@@ -97,6 +97,14 @@ static uint16_t locate(const ego_track_run_t *run, int64_t rel, uint32_t *steps)
     return lo;
 }
 
+/* How far a match is looked for: the radius of the equations, or the
+ * inlier distance of the statistics if that is larger. */
+static int64_t reach(const ego_track_run_t *run)
+{
+    const fx_q16_16_t inlier = run->params->inlier_distance;
+    return (run->radius > inlier) ? run->radius : inlier;
+}
+
 /* A point's distance to one segment of the last scan. */
 typedef struct {
     bool ok;
@@ -132,7 +140,7 @@ static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_q16_16_t qx, 
     f->nx = (int32_t)((-sy * 16384) / length);
     f->ny = (int32_t)((sx * 16384) / length);
     f->d = (ex * f->nx + ey * f->ny) / 16384;
-    f->ok = abs64(f->d) <= run->radius;
+    f->ok = abs64(f->d) <= reach(run);
     return f->ok;
 }
 
@@ -179,6 +187,15 @@ static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
     const int32_t nx = best.nx;
     const int32_t ny = best.ny;
     const int64_t d = best.d;
+    const uint64_t d_sq = (uint64_t)(d * d);
+    const uint64_t inlier_sq = (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
+    if (d_sq <= inlier_sq) {
+        g->inliers++;
+        g->fit += inlier_sq - d_sq;
+    }
+    if (abs64(d) > run->radius) {
+        return; /* counted, not used */
+    }
     /* The lever arm: the point turned, without the translation. */
     const int64_t mx = (int64_t)qx - run->pose.x;
     const int64_t my = (int64_t)qy - run->pose.y;
@@ -193,13 +210,7 @@ static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
     g->b[0] += (int64_t)nx * d;   /* Q30 m */
     g->b[1] += (int64_t)ny * d;
     g->b[2] += arm * d;           /* Q32 m^2 */
-    const uint64_t d_sq = (uint64_t)(d * d);
-    const uint64_t inlier_sq = (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
     g->sum_sq += d_sq;
-    if (d_sq <= inlier_sq) {
-        g->inliers++;
-        g->fit += inlier_sq - d_sq;
-    }
 }
 
 /* num / den in Q16.16 (den > 0), both scaled down together while num << 16
