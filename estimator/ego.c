@@ -208,15 +208,24 @@ static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_st
 }
 
 
-/* Does a tracking result stand: good enough on its own, or converged
- * where a trusted prediction said with half the inlier share (moving
- * objects and thinned beams leave points unmatched that a wrong pose would
- * not explain either). */
+/* Does a tracking result stand: good enough on its own, or, over a short
+ * interval, converged where a trusted prediction said with half the
+ * inlier share (moving objects and thinned beams leave points unmatched
+ * that a wrong pose would not explain either). Over a short interval only:
+ * a prediction's error grows with the square of the interval (5 m/s^2 for
+ * 0.1 s is 2.5 cm; for the 3 s of a keyframe log, metres). */
+#define CONFIRM_INTERVAL_US 100000u
+
+/* The longest interval tracking is tried over: 0.2 s (at 5 m/s^2 a
+ * prediction is then still within 10 cm, inside tracking's 0.3 m reach). */
+#define TRACK_INTERVAL_US 200000u
+
 static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
                             const ego_itcp_result_t *r, const ego_pose_t *predicted,
-                            bool have_prediction)
+                            bool have_prediction, uint32_t dt_us)
 {
-    const bool confirmed = have_prediction && st == EGO_ITCP_OK && r->converged &&
+    const bool confirmed = have_prediction && dt_us <= CONFIRM_INTERVAL_US &&
+                           st == EGO_ITCP_OK && r->converged &&
                            close_to(&r->pose, predicted, params) &&
                            worst_share(r) >= params->accept_fraction / 2;
     return confirmed || good_enough(params, st, r, false);
@@ -527,7 +536,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             }
             ego_itcp_result_t r;
             const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-            if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction)) {
+            if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction, se->dt_us)) {
                 se->best = r;
                 se->best_status = st;
                 se->main_direction = ego_hist_main_direction(&state->hist[state->last]);
@@ -802,7 +811,8 @@ typedef enum { TRACK_FOUND, TRACK_UNFINISHED, TRACK_FAILED } track_outcome_t;
 /* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
  * then goes on with it first. */
 static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
-                             const ego_pose_t *predicted, bool have_prediction, ego_output_t *out)
+                             const ego_pose_t *predicted, bool have_prediction, uint32_t dt_us,
+                             ego_output_t *out)
 {
     const ego_scan_t *last = &state->slot[state->last];
     const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
@@ -816,7 +826,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-    if (!tracking_stands(params, st, &r, predicted, have_prediction)) {
+    if (!tracking_stands(params, st, &r, predicted, have_prediction, dt_us)) {
         return TRACK_FAILED;
     }
     return output_match(st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
@@ -897,7 +907,13 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     /* Without a prediction, tracking from it (no motion, or the last one
      * scaled) is still the cheapest try: it stands only if it fits as well
      * as a tracked motion must. */
-    const track_outcome_t tracked = track(state, params, cur, &predicted, have_prediction, out);
+    /* Tracking is for scans close in time: over a long interval (keyframes)
+     * a prediction can be metres off, and a local registration from it can
+     * settle in a wrong minimum that fits well; the search is safer. */
+    const track_outcome_t tracked = (dt <= TRACK_INTERVAL_US)
+                                        ? track(state, params, cur, &predicted, have_prediction,
+                                                dt, out)
+                                        : TRACK_FAILED;
     if (tracked == TRACK_FOUND) {
         set_velocities(out);
         advance(state, params, cur, time_us, out, true, true, &predicted, true);

@@ -19,7 +19,7 @@ void ego_track_defaults(ego_track_params_t *params)
     memset(params, 0, sizeof *params);
     params->radius_start = FX_Q16_16_C(0.3);
     params->radius = FX_Q16_16_C(0.05);
-    params->max_iterations = 10u;
+    params->max_iterations = 8u;
     params->converge_translation = FX_Q16_16_C(0.0002);
     params->converge_rotation = FX_BAM32_DEG_C(0.002);
     params->inlier_distance = FX_Q16_16_C(0.10);
@@ -105,6 +105,32 @@ static int64_t reach(const ego_track_run_t *run)
     return (run->radius > inlier) ? run->radius : inlier;
 }
 
+/* Did the last scan see more than twice the inlier distance beyond (qx,
+ * qy): its beams on both sides of that bearing, neighbours with no gap
+ * between them, both reach further? A current point there sits where the
+ * last scan saw empty space, so the pose that put it there is wrong (or
+ * the point moved). */
+static bool seen_through(const ego_track_run_t *run, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy)
+{
+    const ego_scan_t *l = run->last;
+    if (j == 0u || j >= l->count || (l->flags[j - 1u] & EGO_LINK_GAP) != 0u) {
+        return false;
+    }
+    const int64_t ox = (int64_t)qx - l->origin_x;
+    const int64_t oy = (int64_t)qy - l->origin_y;
+    const int64_t r = (int64_t)fx_sqrt_u64((uint64_t)(ox * ox + oy * oy)) +
+                      2 * (int64_t)run->params->inlier_distance;
+    const uint64_t r_sq = (uint64_t)(r * r);
+    for (uint16_t k = (uint16_t)(j - 1u); k <= j; k++) {
+        const int64_t bx = (int64_t)l->x[k] - l->origin_x;
+        const int64_t by = (int64_t)l->y[k] - l->origin_y;
+        if ((uint64_t)(bx * bx + by * by) <= r_sq) {
+            return false;
+        }
+    }
+    return true;
+}
+
 /* A point's distance to one segment of the last scan. */
 typedef struct {
     bool ok;
@@ -164,6 +190,10 @@ static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
         fx_bam32_diff(fx_atan2((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
     const uint16_t j = locate(run, rel, steps);
     run->hint = j;
+    if (seen_through(run, j, qx, qy)) {
+        g->seen_through++;
+        return; /* in space the last scan saw empty: no partner there */
+    }
     /* The segment j - 1 -> j spans the bearing; when it does not take the
      * point (a break, an end), its neighbours on either side may. */
     segment_fit_t best;
@@ -362,9 +392,13 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
         (uint64_t)((int64_t)run->params->inlier_distance * run->params->inlier_distance);
     for (unsigned k = 0u; k < 2u; k++) {
         result->group_points[k] = (uint16_t)g[k].points;
+        /* A point where the last scan saw empty space costs what a perfect
+         * inlier gains (as ITCP's statistics). */
         const uint64_t full = (uint64_t)g[k].points * inlier_sq;
+        const uint64_t penalty = (uint64_t)g[k].seen_through * inlier_sq;
+        const uint64_t fit = (g[k].fit > penalty) ? g[k].fit - penalty : 0u;
         result->group_fit[k] =
-            (full == 0u) ? 0 : (fx_q2_30_t)((g[k].fit >> 4) * (1ull << 30) / (full >> 4));
+            (full == 0u) ? 0 : (fx_q2_30_t)((fit >> 4) * (1ull << 30) / (full >> 4));
     }
     if (n > 0) {
         result->residual = (fx_q16_16_t)fx_sqrt_u64((g[0].sum_sq + g[1].sum_sq) / (uint64_t)n);

@@ -17,7 +17,9 @@
  *
  * The result is an ego_itcp_result_t, so the estimator judges both alike:
  * the inlier shares per group (max(0, 1 - d^2 / inlier_distance^2) per
- * point, at the last pass), matches, RMS distance, aperture.
+ * point within the inlier distance, minus one for each point lying where
+ * the last scan saw empty space, at the last pass), matches, RMS
+ * distance, aperture.
  *
  * Resumable: a run works point by point within a work meter (ego_work.h)
  * and goes on at the next point on the next call; the scans and params must
@@ -41,7 +43,7 @@
 typedef struct {
     fx_q16_16_t radius_start;         /* |d| accepted in the first iteration, m; 0.3 */
     fx_q16_16_t radius;               /* ... in the following ones, m; 0.1 */
-    uint8_t max_iterations;           /* 10 */
+    uint8_t max_iterations;           /* 8 */
     fx_q16_16_t converge_translation; /* a step this small has converged, m; 0.0001 */
     fx_bam32_t converge_rotation;     /* ... and this, 0.001 deg */
     fx_q16_16_t inlier_distance;      /* of the inlier shares, m; 0.10 (as ITCP's) */
@@ -61,6 +63,7 @@ typedef struct {
     uint64_t sum_sq;
     uint64_t fit;
     uint32_t inliers;
+    uint32_t seen_through; /* points where the last scan saw empty space */
     uint32_t points; /* current points in the group, matched or not */
 } ego_track_sums_t;
 
