@@ -336,6 +336,47 @@ static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t 
     *m->units += EGO_COST_MATCH_POINT;
 }
 
+/* Significant bits of d > 0. */
+static unsigned bits32(uint32_t d)
+{
+#if defined(__GNUC__)
+    return 32u - (unsigned)__builtin_clz(d);
+#else
+    unsigned n = 0u;
+    for (; d != 0u && n < 32u; n++) {
+        d >>= 1;
+    }
+    return n;
+#endif
+}
+
+/* Half-angle of the cone the search disc subtends: asin(radius / r) <=
+ * (pi / 2) (radius / r), i.e. (radius / r) quarter turns, in binary angle: radius 2^30 / r, or a
+ * little more (a wider cone only walks a little further), with one 32-bit
+ * division: r cut to 16 significant bits (rounded down), radius by the
+ * same shift (rounded up), the quotient rounded up, in units of 2^15
+ * (0.003 deg). r <= radius: half a turn. */
+static int64_t cone_of(fx_q16_16_t radius, int64_t r)
+{
+    if (r <= radius) {
+        return FX_BAM32_HALF;
+    }
+    if (r > INT32_MAX || radius < 0) {
+        return (((int64_t)radius << 30) / r) + 1; /* out of any scan's range */
+    }
+    uint32_t d = (uint32_t)r;
+    uint32_t n = (uint32_t)radius;
+    const unsigned b = bits32(d);
+    if (b > 16u) {
+        const unsigned shift = b - 16u;
+        const uint32_t lost = n & ((1u << shift) - 1u);
+        d >>= shift;
+        n = (n >> shift) + ((lost != 0u) ? 1u : 0u);
+    }
+    /* d < 2^16 and n <= d + 1 <= 2^16 (radius < r): n 2^15 + d - 1 < 2^32. */
+    return (int64_t)(((n << 15) + d - 1u) / d) << 15;
+}
+
 static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_bam32_t tc)
 {
     const ego_scan_t *l = m->last;
@@ -349,12 +390,7 @@ static match_t find_match(const matcher_t *m, const query_t *q, bool has_tc, fx_
     const int64_t ax = (q->ox < 0) ? -q->ox : q->ox;
     const int64_t ay = (q->oy < 0) ? -q->oy : q->oy;
     const int64_t r_q = (ax > ay) ? ax : ay;
-    /* Half-angle of the cone the search disc subtends: asin(radius / r)
-     * <= (pi / 2) (radius / r), i.e. (radius / r) quarter turns. */
-    int64_t cone = FX_BAM32_HALF;
-    if (r_q > m->radius) {
-        cone = ((int64_t)m->radius << 30) / r_q;
-    }
+    const int64_t cone = cone_of(m->radius, r_q);
     const target_t t = {q->x, q->y, has_tc, tc, (uint64_t)((int64_t)m->radius * m->radius)};
     /* The box test first: it skips most points of the walk before any
      * product or division (consider accepts nothing outside the box of a
