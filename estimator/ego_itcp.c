@@ -394,26 +394,49 @@ typedef struct {
     int64_t oy;
     int64_t rel;   /* bearing from the last scanner, relative to m->ref */
     int32_t slack; /* how far rel may be from the exact bearing */
-    uint16_t j0;   /* first last-scan point with a bearing >= rel */
+    uint16_t j0;   /* first last-scan point with a bearing >= rel (locate) */
 } query_t;
 
-/* hint: where the search for j0 starts (see lower_bound). quick: the
- * bearing by quick_bearing (j0 then is the first point at or past a
- * bearing within QUICK_BEARING_ERROR of the point's: enough for the walk,
- * not for seen_through, which needs the beams on both sides); else
- * exact. */
-static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t hint, bool quick,
-                   query_t *q)
+/* Where a query starts: its coordinates from the last scanner, rel by
+ * quick_bearing (find_match widens its cone by its error). */
+static void query_at(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, query_t *q)
 {
     q->x = qx;
     q->y = qy;
     q->ox = (int64_t)qx - m->last->origin_x;
     q->oy = (int64_t)qy - m->last->origin_y;
-    const fx_bam32_t bearing = quick ? quick_bearing(q->oy, q->ox) : fx_atan2(q->oy, q->ox);
-    q->slack = quick ? QUICK_BEARING_ERROR : 0;
-    q->rel = fx_bam32_diff(bearing, m->ref);
-    q->j0 = lower_bound(m, q->rel, hint);
+    q->rel = fx_bam32_diff(quick_bearing(q->oy, q->ox), m->ref);
+    q->slack = QUICK_BEARING_ERROR;
     *m->units += EGO_COST_MATCH_POINT;
+}
+
+/* For the walk alone: j0 the first point at or past rel. A start a point
+ * off walks the same segments, but for ties and walks cut by
+ * EGO_ITCP_MAX_WALK. hint: where the search for j0 starts (lower_bound). */
+static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t hint, query_t *q)
+{
+    query_at(m, qx, qy, q);
+    q->j0 = lower_bound(m, q->rel, hint);
+}
+
+/* As locate, with j0 the first point at or past the exact bearing (as
+ * fx_atan2 gives it), for seen_through, which needs the beams on both
+ * sides: when no last-scan bearing lies within QUICK_BEARING_ERROR of rel,
+ * the first one past rel - QUICK_BEARING_ERROR is that point; otherwise
+ * (a beam within 0.022 deg: a few percent of the points) fx_atan2
+ * decides. */
+static void locate_exactly(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t hint,
+                           query_t *q)
+{
+    query_at(m, qx, qy, q);
+    /* (Within the error of half a turn from ref the exact one may wrap.) */
+    const bool wraps = q->rel < (int64_t)INT32_MIN + QUICK_BEARING_ERROR ||
+                       q->rel > (int64_t)INT32_MAX - QUICK_BEARING_ERROR;
+    uint16_t j0 = lower_bound(m, q->rel - QUICK_BEARING_ERROR, hint);
+    if (wraps || (j0 < m->last->count && bearing_below(m, j0, q->rel + QUICK_BEARING_ERROR))) {
+        j0 = lower_bound(m, fx_bam32_diff(fx_atan2(q->oy, q->ox), m->ref), j0);
+    }
+    q->j0 = j0;
 }
 
 /* Half-angle of the cone the search disc subtends: asin(radius / r) <=
@@ -551,7 +574,7 @@ bool ego_itcp_nearest(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t qy, fx
     uint32_t units = 0u;
     init_matcher(&m, last, middle_bearing(last), radius, &units);
     query_t q;
-    locate(&m, qx, qy, (uint16_t)(last->count / 2u), false, &q);
+    locate_exactly(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     const match_t best = find_match(&m, &q, false, 0u);
     *dist_sq = best.dist_sq;
     return best.found;
@@ -567,7 +590,7 @@ bool ego_itcp_seen_through(const ego_scan_t *last, fx_q16_16_t qx, fx_q16_16_t q
     uint32_t units = 0u;
     init_matcher(&m, last, middle_bearing(last), 0, &units);
     query_t q;
-    locate(&m, qx, qy, (uint16_t)(last->count / 2u), false, &q);
+    locate_exactly(&m, qx, qy, (uint16_t)(last->count / 2u), &q);
     return seen_through(&m, &q, margin);
 }
 
@@ -598,7 +621,7 @@ ego_itcp_probe_t ego_itcp_probe(ego_itcp_prober_t *p, fx_q16_16_t qx, fx_q16_16_
     matcher_t m;
     init_matcher(&m, p->last, p->ref, p->radius, &p->units);
     query_t q;
-    locate(&m, qx, qy, p->hint, false, &q);
+    locate_exactly(&m, qx, qy, p->hint, &q);
     p->hint = q.j0;
     const match_t best = find_match(&m, &q, false, 0u);
     *dist_sq = best.dist_sq;
@@ -939,7 +962,11 @@ static uint32_t match_next_point(ego_itcp_run_t *run)
     query_t q;
     /* The iterations' passes need the walk only; the statistics pass's
      * free-space test needs the exact place. */
-    locate(&m, qx, qy, run->hint, run->phase != PHASE_STATS, &q);
+    if (run->phase == PHASE_STATS) {
+        locate_exactly(&m, qx, qy, run->hint, &q);
+    } else {
+        locate(&m, qx, qy, run->hint, &q);
+    }
     run->hint = q.j0;
     /* The statistics also count the points the last scan saw through. */
     if (run->phase == PHASE_STATS && seen_through(&m, &q, 2 * params->inlier_distance)) {
