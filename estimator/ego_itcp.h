@@ -1,13 +1,17 @@
 /* ego_itcp.h - ITCP: iterative tangent-weighted closest point (paper section
  * 5, eqs. 8-12), and plain ICP as a selectable mode.
  *
- * Each iteration matches every current point P (moved by the pose guess to
- * Q = R P + T) to the closest point on the last scan's segments (eq. 8),
- * then solves the weighted closed form (eq. 12) for a new pose.
+ * Each iteration matches every current point P (in the first run, with
+ * max_points, a spread subset) moved by the pose guess to Q = R P + T, to
+ * the closest point on the last scan's segments (eq. 8), then solves the
+ * weighted closed form (eq. 12) for a new pose.
  *
  * Correspondences through the scan order, not all pairs: the last scan's
  * points are sorted by bearing from its scanner. Q's bearing finds its
- * place by binary search; the search then walks outwards along the scan
+ * place by binary search (in the iterations a bearing from a table, within
+ * 0.022 deg, the cone below widened by as much; fx_atan2 wherever the
+ * exact place matters: free space, the coarse search's probes); the search
+ * then walks outwards along the scan
  * and stops on each side once a point's bearing leaves the cone that the
  * disc of the search radius around Q subtends (a segment between two
  * points outside the cone on the same side cannot reach the disc), or
