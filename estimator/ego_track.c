@@ -19,7 +19,7 @@ void ego_track_defaults(ego_track_params_t *params)
     memset(params, 0, sizeof *params);
     params->radius_start = FX_Q16_16_C(0.3);
     params->radius = FX_Q16_16_C(0.05);
-    params->max_iterations = 8u;
+    params->max_iterations = 10u;
     params->converge_translation = FX_Q16_16_C(0.0002);
     params->converge_rotation = FX_BAM32_DEG_C(0.002);
     params->inlier_distance = FX_Q16_16_C(0.10);

@@ -43,7 +43,7 @@
 typedef struct {
     fx_q16_16_t radius_start;         /* |d| accepted in the first iteration, m; 0.3 */
     fx_q16_16_t radius;               /* ... in the following ones, m; 0.1 */
-    uint8_t max_iterations;           /* 8 */
+    uint8_t max_iterations;           /* 10 */
     fx_q16_16_t converge_translation; /* a step this small has converged, m; 0.0001 */
     fx_bam32_t converge_rotation;     /* ... and this, 0.001 deg */
     fx_q16_16_t inlier_distance;      /* of the inlier shares, m; 0.10 (as ITCP's) */
