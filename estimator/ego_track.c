@@ -196,9 +196,7 @@ static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
     }
     /* The segment j - 1 -> j spans the bearing; when it does not take the
      * point (a break, an end), its neighbours on either side may. */
-    segment_fit_t best;
-    best.ok = false;
-    best.d = 0;
+    segment_fit_t best = {false, 0, 0, 0};
     for (int32_t k = 0; k < 3; k++) {
         const int32_t a = (k == 0) ? (int32_t)j - 1 : (k == 1) ? (int32_t)j - 2 : (int32_t)j;
         if (k > 0 && best.ok) {
