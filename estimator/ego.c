@@ -539,6 +539,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction, se->dt_us)) {
                 se->best = r;
                 se->best_status = st;
+                se->stage_tracked = true;
                 se->main_direction = ego_hist_main_direction(&state->hist[state->last]);
                 se->stage = SEARCH_DONE;
             } else {
@@ -683,12 +684,17 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     out->flags |= se->flags;
     out->candidates = se->tried;
     out->dt_us = se->dt_us;
-    const bool matched = output_match(se->best_status, &se->best, se->have_prediction,
-                                      &se->predicted, se->main_direction, out);
+    /* The light search (under a budget) registers thinned scans: a best
+     * candidate that is not good enough is no answer there. */
+    const bool fits = !se->light || se->stage_tracked ||
+                      good_enough(params, se->best_status, &se->best, false);
+    const bool matched = fits && output_match(se->best_status, &se->best, se->have_prediction,
+                                              &se->predicted, se->main_direction, out);
     if (matched) {
         out->correlation = se->correlation[se->best_k];
     } else {
-        out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
+        out->flags &= (uint16_t)~(EGO_FLAG_APERTURE | EGO_FLAG_NOT_CONVERGED);
+        out->flags |= EGO_FLAG_PREDICTED | (fits ? EGO_FLAG_TOO_FEW_POINTS : 0u);
         out->pose = se->predicted;
     }
     if (recovered) {

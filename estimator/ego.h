@@ -127,6 +127,7 @@ void ego_budget_defaults(ego_params_t *params);
 typedef struct {
     bool active;
     bool light;              /* under a budget: no refinement, tracking registrations */
+    bool stage_tracked;      /* the unfinished tracking stood: that is the answer */
     uint8_t stage;
     uint8_t step;            /* within a candidate's attempt */
     uint8_t scans;           /* scans it has worked in */

@@ -8,7 +8,15 @@ usage: pairs_error.py TRUTH.pairs REPLAY.csv [--exclude-flags MASK] [--fail-m 0.
 Prints, over the pairs present in both: translation error (along = x of the
 truth's frame, across = y) and rotation error: mean, median, p95, max; and the
 failure count (translation error > fail-m or rotation error > fail-deg, or no
-answer). With --max-* bounds it exits 1 when one is exceeded (ctest uses
+answer).
+
+A line's pose is compared with the truth over the span it covers (the
+estimator's flags, estimator/ego.h): a line flagged 64 (recovering) claims
+no motion and counts as a failed pair; the search it belongs to started at
+the first line of its run of 64s; the line flagged 128 (recovered) gives
+the motion from the last answered scan to that one, and the next line the
+motion from there to its own scan. Truth over a span is the consecutive
+truth pairs composed. A line flagged 1 (first) answers nothing and restarts. With --max-* bounds it exits 1 when one is exceeded (ctest uses
 that), else 0. Standard library only.
 """
 import argparse
@@ -30,7 +38,8 @@ def read_truth(path):
 
 
 def read_csv(path):
-    est = {}
+    """The lines in scan order: (scan, dx, dy, dtheta, flags)."""
+    lines = []
     with open(path) as f:
         header = f.readline().strip().split(',')
         col = {name: k for k, name in enumerate(header)}
@@ -38,9 +47,61 @@ def read_csv(path):
             v = line.strip().split(',')
             if len(v) != len(header):
                 continue
-            est[int(v[col['scan']])] = (float(v[col['dx_m']]), float(v[col['dy_m']]),
-                                        float(v[col['dtheta_rad']]), int(v[col['flags']]))
-    return est
+            lines.append((int(v[col['scan']]), float(v[col['dx_m']]), float(v[col['dy_m']]),
+                          float(v[col['dtheta_rad']]), int(v[col['flags']])))
+    return lines
+
+
+FLAG_FIRST = 1
+FLAG_RECOVERING = 64
+FLAG_RECOVERED = 128
+
+
+def compose(a, b):
+    """Pose b (in a's end frame) after pose a: (dx, dy, dtheta)."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
+
+
+def truth_span(truth, i, j):
+    """Truth from scan i to scan j (i < j), or None where a pair is missing."""
+    pose = (0.0, 0.0, 0.0)
+    for k in range(i + 1, j + 1):
+        if k not in truth:
+            return None
+        pose = compose(pose, truth[k])
+    return pose
+
+
+def answers(truth, lines):
+    """(truth pose, estimate, flags) per answered span; and the unanswered
+    scans (recovering, first, or missing)."""
+    out = []
+    unanswered = set(truth)
+    ref = None      # the scan the next motion starts from
+    target = None   # the scan a running search started from
+    for scan, dx, dy, dt, flags in lines:
+        if flags & FLAG_FIRST:
+            ref, target = scan, None
+            continue
+        if ref is None:
+            ref = scan - 1
+        if flags & FLAG_RECOVERING:
+            if target is None:
+                target = scan
+            continue
+        end = scan
+        if flags & FLAG_RECOVERED and target is not None:
+            end = target
+        t = truth_span(truth, ref, end) if end > ref else None
+        if t is not None:
+            out.append((t, (dx, dy, dt), flags))
+            if end == scan:
+                unanswered.discard(scan)
+            else:
+                unanswered.discard(end)
+        ref, target = end, None
+    return out, unanswered
 
 
 def stats(values):
@@ -70,14 +131,10 @@ def main():
     ap.add_argument('--max-trans-median', type=float)
     a = ap.parse_args()
     truth = read_truth(a.truth)
-    est = read_csv(a.csv)
+    spans, unanswered = answers(truth, read_csv(a.csv))
     along, across, trans, rot = [], [], [], []
-    fails = 0
-    for j, (tx, ty, tt) in sorted(truth.items()):
-        if j not in est:
-            fails += 1
-            continue
-        ex, ey, et, flags = est[j]
+    fails = len(unanswered)
+    for (tx, ty, tt), (ex, ey, et), flags in spans:
         r = abs(math.degrees(math.remainder(et - tt, 2 * math.pi)))
         rot.append(r)
         t = math.hypot(ex - tx, ey - ty)
@@ -89,8 +146,9 @@ def main():
         trans.append(t)
         along.append(abs(ex - tx))
         across.append(abs(ey - ty))
-    print('pairs %d  failed %d (%.1f %%)  translation excluded %d' % (
-        len(truth), fails, 100.0 * fails / max(1, len(truth)), len(rot) - len(trans)))
+    print('pairs %d  failed %d (%.1f %%)  translation excluded %d  unanswered %d  spans %d' % (
+        len(truth), fails, 100.0 * fails / max(1, len(truth)), len(rot) - len(trans),
+        len(unanswered), len(spans)))
     print('rotation deg   ' + stats(rot))
     print('translation m  ' + stats(trans))
     print('along m        ' + stats(along))
