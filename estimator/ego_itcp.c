@@ -451,7 +451,7 @@ static int64_t cone_of(fx_q16_16_t radius, int64_t r)
         return FX_BAM32_HALF;
     }
     if (r > INT32_MAX || radius < 0) {
-        return (((int64_t)radius << 30) / r) + 1; /* out of any scan's range */
+        return (((int64_t)radius * ((int64_t)1 << 30)) / r) + 1; /* out of any scan's range */
     }
     uint32_t d = (uint32_t)r;
     uint32_t n = (uint32_t)radius;
