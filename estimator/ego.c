@@ -845,6 +845,82 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const e
     return ego_process_with_prior(state, params, scan, time_us, NULL, out);
 }
 
+/* A scan while a search runs: it is not prepared (both slots belong to the
+ * search), its budget goes to the search. */
+static void continue_search(ego_state_t *state, const ego_params_t *params, ego_output_t *out)
+{
+    state->search.scans++;
+    if (search_run(state, params)) {
+        finish_search(state, params, true, out);
+        return;
+    }
+    out->flags = EGO_FLAG_RECOVERING;
+    if (state->search.scans >= params->max_search_scans) {
+        state->search.active = false; /* too long: start over */
+        state->have_last = false;
+    }
+}
+
+/* The scan in slot cur is the first: no motion. */
+static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_output_t *out)
+{
+    out->flags = EGO_FLAG_FIRST;
+    state->have_last = true;
+    state->last = cur;
+    state->last_time_us = time_us;
+    memset(&state->motion, 0, sizeof state->motion);
+    state->motion_dt_us = 0u;
+    state->predictable = false;
+    state->misses = 0u;
+}
+
+/* The motion from the last scan to the prepared scan in slot cur, dt_us
+ * later: tracked, else searched (in this scan's budget and, if need be, the
+ * next scans'). */
+static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t cur,
+                       uint32_t time_us, uint32_t dt, const ego_pose_t *prior, ego_output_t *out)
+{
+    const ego_scan_t *current = &state->slot[cur];
+    const ego_scan_t *last = &state->slot[state->last];
+    out->dt_us = dt;
+    const ego_pose_t predicted = (prior != NULL) ? *prior : predict(state, dt);
+    const bool have_prediction = prior != NULL || (motion_known(state, dt) && state->predictable);
+    if (current->count < params->min_points || last->count < params->min_points) {
+        out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
+        out->pose = predicted;
+        set_velocities(out);
+        advance(state, params, cur, time_us, out, false, false, &predicted, have_prediction);
+        return;
+    }
+    /* Tracking is for scans close in time: over a long interval (keyframes)
+     * a prediction can be metres off, and a local registration from it can
+     * settle in a wrong minimum that fits well; the search is safer.
+     * Without a prediction tracking starts from no motion. */
+    const track_outcome_t tracked = (dt <= TRACK_INTERVAL_US)
+                                        ? track(state, params, cur, &predicted, have_prediction,
+                                                dt, out)
+                                        : TRACK_FAILED;
+    if (tracked == TRACK_FOUND) {
+        set_velocities(out);
+        advance(state, params, cur, time_us, out, true, true, &predicted, true);
+        return;
+    }
+    const uint16_t points = out->points;
+    memset(out, 0, sizeof *out);
+    out->points = points;
+    search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction,
+                 params->work_per_s != 0u);
+    if (tracked == TRACK_UNFINISHED) {
+        state->search.stage = SEARCH_TRACKING;
+    }
+    state->search.scans = 1u;
+    if (search_run(state, params)) {
+        finish_search(state, params, false, out);
+    } else {
+        out->flags = EGO_FLAG_RECOVERING;
+    }
+}
+
 ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *params,
                                     const ego_range_scan_t *scan, uint32_t time_us,
                                     const ego_pose_t *prior, ego_output_t *out)
@@ -857,87 +933,20 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     }
     memset(out, 0, sizeof *out);
     ego_work_start(&state->work, budget(state, params, time_us));
-
     if (state->search.active) {
-        /* Not prepared: both slots belong to the search. */
-        state->search.scans++;
-        if (search_run(state, params)) {
-            finish_search(state, params, true, out);
-        } else if (state->search.scans >= params->max_search_scans) {
-            state->search.active = false; /* too long: start over */
-            state->have_last = false;
-            out->flags = EGO_FLAG_RECOVERING;
-        } else {
-            out->flags = EGO_FLAG_RECOVERING;
-        }
-        finish_output(state, out, time_us);
-        return EGO_OK;
-    }
-
-    const uint8_t cur = state->have_last ? other_slot(state->last) : state->last;
-    if (!prepare(state, params, scan, cur)) {
-        /* Skipped: the next motion spans it. */
-        out->flags = EGO_FLAG_RECOVERING;
-        finish_output(state, out, time_us);
-        return EGO_OK;
-    }
-    const ego_scan_t *current = &state->slot[cur];
-    out->points = current->count;
-
-    const uint32_t dt = time_us - state->last_time_us;
-    if (!state->have_last || dt == 0u) {
-        out->flags = EGO_FLAG_FIRST;
-        state->have_last = true;
-        state->last = cur;
-        state->last_time_us = time_us;
-        memset(&state->motion, 0, sizeof state->motion);
-        state->motion_dt_us = 0u;
-        state->predictable = false;
-        state->misses = 0u;
-        finish_output(state, out, time_us);
-        return EGO_OK;
-    }
-    out->dt_us = dt;
-    const ego_scan_t *last = &state->slot[state->last];
-    const ego_pose_t predicted = (prior != NULL) ? *prior : predict(state, dt);
-    const bool have_prediction = prior != NULL || (motion_known(state, dt) && state->predictable);
-
-    if (current->count < params->min_points || last->count < params->min_points) {
-        out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
-        out->pose = predicted;
-        set_velocities(out);
-        advance(state, params, cur, time_us, out, false, false, &predicted, have_prediction);
-        finish_output(state, out, time_us);
-        return EGO_OK;
-    }
-    /* Without a prediction, tracking from it (no motion, or the last one
-     * scaled) is still the cheapest try: it stands only if it fits as well
-     * as a tracked motion must. */
-    /* Tracking is for scans close in time: over a long interval (keyframes)
-     * a prediction can be metres off, and a local registration from it can
-     * settle in a wrong minimum that fits well; the search is safer. */
-    const track_outcome_t tracked = (dt <= TRACK_INTERVAL_US)
-                                        ? track(state, params, cur, &predicted, have_prediction,
-                                                dt, out)
-                                        : TRACK_FAILED;
-    if (tracked == TRACK_FOUND) {
-        set_velocities(out);
-        advance(state, params, cur, time_us, out, true, true, &predicted, true);
-        finish_output(state, out, time_us);
-        return EGO_OK;
-    }
-    memset(out, 0, sizeof *out);
-    out->points = current->count;
-    search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction,
-                 params->work_per_s != 0u);
-    if (tracked == TRACK_UNFINISHED) {
-        state->search.stage = SEARCH_TRACKING;
-    }
-    if (search_run(state, params)) {
-        finish_search(state, params, false, out);
+        continue_search(state, params, out);
     } else {
-        state->search.scans = 1u;
-        out->flags = EGO_FLAG_RECOVERING;
+        const uint8_t cur = state->have_last ? other_slot(state->last) : state->last;
+        const uint32_t dt = time_us - state->last_time_us;
+        if (!prepare(state, params, scan, cur)) {
+            out->flags = EGO_FLAG_RECOVERING; /* skipped: the next motion spans it */
+        } else if (!state->have_last || dt == 0u) {
+            out->points = state->slot[cur].count;
+            start_over(state, cur, time_us, out);
+        } else {
+            out->points = state->slot[cur].count;
+            match_scan(state, params, cur, time_us, dt, prior, out);
+        }
     }
     finish_output(state, out, time_us);
     return EGO_OK;

@@ -157,8 +157,10 @@ typedef struct {
     ego_itcp_result_t candidate;
     ego_itcp_status_t best_status;
     ego_itcp_result_t best;
-    ego_coarse_run_t coarse;
-    ego_hist_correlation_t correlation_run;
+    union { /* one at a time: the correlation, then the candidates' searches */
+        ego_hist_correlation_t correlation_run;
+        ego_coarse_run_t coarse;
+    };
 } ego_search_t;
 
 typedef struct {
@@ -176,8 +178,10 @@ typedef struct {
     bool have_previous;      /* the time of the previous scan, for the budget */
     uint32_t previous_time_us;
     ego_work_t work;         /* this scan's meter */
-    ego_itcp_run_t run;      /* the search's registration in progress */
-    ego_track_run_t tracking;
+    union { /* one registration at a time */
+        ego_itcp_run_t run;         /* the search's ITCP */
+        ego_track_run_t tracking;   /* tracking, or the light search's */
+    };
     ego_search_t search;
 } ego_state_t;
 

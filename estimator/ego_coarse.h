@@ -35,8 +35,8 @@
 #include "ego_scan.h"
 #include "ego_work.h"
 
-/* Largest sample; the defaults use 48. */
-#define EGO_COARSE_MAX_SAMPLE 128u
+/* Largest sample; the defaults use 48 (24 under a budget). */
+#define EGO_COARSE_MAX_SAMPLE 64u
 
 typedef struct {
     fx_q16_16_t window;        /* half-width of the translation window, m */

@@ -47,8 +47,9 @@
  * host has no instruction clock): it checks its own run (nothing dropped,
  * the one restart, the clean stop, every scan estimated or skipped) and
  * prints '# deferred estimated=.. skipped=..' and the instructions per
- * estimate. Unbounded (ego_defaults) the estimator does not keep up with
- * a 75 Hz scanner on this part: some scans must be skipped.
+ * estimate. Tracking keeps the estimator up with the 75 Hz scanner on this
+ * part (about 1.1 M instructions a scan against 2.2 M in 13.3 ms at 168
+ * MHz): it must skip no scan.
  */
 #include <stdbool.h>
 #include <stdint.h>
@@ -371,9 +372,9 @@ static const char *check(void)
         lp->lines + 1u != ls->scans_estimated || lp->decode_errors != 0u) {
         return "scans, estimated and skipped, or lines";
     }
-    /* Unbounded, the estimator cannot keep up: the newest scan is taken. */
-    if (ls->scans_skipped == 0u) {
-        return "no scan skipped";
+    /* Tracking keeps up with the scanner: nothing skipped. */
+    if (ls->scans_skipped != 0u) {
+        return "the estimator skipped scans";
     }
 #else
     if (ls->scans != SCANS || lp->lines != SCANS - 1u || lp->decode_errors != 0u) {
