@@ -63,6 +63,15 @@ _Static_assert((-3 >> 1) == -2, "arithmetic right shift required");
 #define FX_INLINE static inline
 #endif
 
+/* The opposite, for a large step called from several places: one copy of
+ * it, whatever the optimisation level (at -O2 gcc would otherwise paste it
+ * into each caller and the loop's flash outgrows a 64 KiB part). */
+#if defined(__GNUC__)
+#define EGO_NOINLINE __attribute__((noinline))
+#else
+#define EGO_NOINLINE
+#endif
+
 /* Arithmetic right shift by s (1..62), rounding to nearest with ties away
  * from zero. Computed on the magnitude in unsigned arithmetic, so it is
  * defined for every int64 input, INT64_MIN included. */

@@ -69,7 +69,7 @@ void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_sca
 /* The first last-scan point whose bearing is at least rel: a walk from the
  * hint of at most WALK_MAX steps, then a binary search. *steps counts the
  * work. */
-static uint16_t locate(const ego_track_run_t *run, int64_t rel, uint32_t *steps)
+EGO_NOINLINE static uint16_t locate(const ego_track_run_t *run, int64_t rel, uint32_t *steps)
 {
     const uint16_t n = run->last->count;
     uint16_t j = run->hint;
@@ -110,7 +110,7 @@ static int64_t reach(const ego_track_run_t *run)
  * between them, both reach further? A current point there sits where the
  * last scan saw empty space, so the pose that put it there is wrong (or
  * the point moved). */
-static bool seen_through(const ego_track_run_t *run, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy)
+EGO_NOINLINE static bool seen_through(const ego_track_run_t *run, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy)
 {
     const ego_scan_t *l = run->last;
     if (j == 0u || j >= l->count || (l->flags[j - 1u] & EGO_LINK_GAP) != 0u) {
@@ -142,7 +142,7 @@ typedef struct {
 /* The point (qx, qy) against segment a -> a + 1: true when the segment is a
  * surface, the point lies along it (at most a quarter of it beyond either
  * end) and within the run's radius of its line. */
-static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_q16_16_t qx, fx_q16_16_t qy,
+EGO_NOINLINE static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_q16_16_t qx, fx_q16_16_t qy,
                         segment_fit_t *f)
 {
     const ego_scan_t *l = run->last;
@@ -171,7 +171,7 @@ static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_q16_16_t qx, 
 }
 
 /* Matches current point i at the run's pose into its group's sums. */
-static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
+EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
 {
     const ego_scan_t *l = run->last;
     const ego_scan_t *c = run->current;
@@ -255,7 +255,7 @@ static int64_t div_q16(int64_t num, int64_t den)
 /* The step (dx, dy, dtheta) from the pass's normal equations: each group's
  * means, the groups averaged (eq. 10's equal weights), in Q14, damped; false
  * when there is nothing to solve. */
-static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t *dy, int64_t *dtheta)
+EGO_NOINLINE static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t *dy, int64_t *dtheta)
 {
     int64_t a[6] = {0, 0, 0, 0, 0, 0};
     int64_t b[3] = {0, 0, 0};

@@ -43,7 +43,7 @@ set_tests_properties(target_session PROPERTIES LABELS "target" TIMEOUT 300)
 # state, the measurement buffer insns), summed from the map file.
 set(session_budget_args -DSIZE=${LMSEGO_ARM_SIZE} -DNM=${LMSEGO_ARM_NM}
     -DIMAGE=$<TARGET_FILE:session_image> -DSU_DIR=${CMAKE_BINARY_DIR}
-    -DOUT=${CMAKE_BINARY_DIR}/budget_session.txt
+    -DOUT=${CMAKE_BINARY_DIR}/budget_session.txt -DFLASH_LIMIT=${LMSEGO_FLASH_LIMIT}
     -DMAP=${CMAKE_BINARY_DIR}/bin/session_image.map
     "-DEXCLUDE_SOURCES=lms_sim[.]c|session_scene_stream[.]c"
     "-DEXCLUDE_SYMBOLS=sim_[A-Za-z0-9_]*|insns")
