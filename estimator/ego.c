@@ -253,7 +253,7 @@ enum {
 /* Work of the correlation: per shift, the products of the current
  * histogram's filled bins (an upper bound of ego_hist_correlate's), and
  * the peaks. */
-#define COST_CORRELATE_BIN 60u
+#define COST_CORRELATE_BIN 90u
 
 /* Under a budget the coarse search scores this many points per pose. */
 #define LIGHT_SAMPLE_POINTS 24u
@@ -407,7 +407,8 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
     for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
         filled += (state->hist[cur].bin[b] != 0u) ? 1u : 0u;
     }
-    const uint32_t per_shift = (filled + 2u) * EGO_COST_CORRELATE_PRODUCT;
+    /* Per shift: a product per filled bin, and the shift's own work. */
+    const uint32_t per_shift = (filled + 8u) * EGO_COST_CORRELATE_PRODUCT;
     const uint32_t setup = EGO_HIST_BINS * COST_CORRELATE_BIN;
     STAGE(EGO_STAGE_CORRELATE);
     for (;;) {
@@ -709,6 +710,7 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
 
 static void finish_output(ego_state_t *state, ego_output_t *out, uint32_t time_us)
 {
+    STAGE(EGO_STAGE_OTHER); /* the scan's last stage ends with it */
     out->work = (state->work.used > UINT32_MAX) ? UINT32_MAX : (uint32_t)state->work.used;
     out->work_limit = (state->work.limit > UINT32_MAX) ? UINT32_MAX : (uint32_t)state->work.limit;
     state->have_previous = true;
@@ -732,7 +734,7 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
 /* Tracking's work per point it registers: its passes at most (the
  * iterations, the fine run, the statistics) of a located point with a
  * short walk. */
-#define TRACK_POINT_COST (EGO_COST_TRACK_POINT + 4u * EGO_COST_MATCH_STEP)
+#define TRACK_POINT_COST (EGO_COST_TRACK_POINT + 4u * EGO_COST_MATCH_STEP + EGO_COST_TRACK_FIT)
 
 /* Passes tracking typically takes from a good prediction: a few
  * iterations to converge, two or three fine ones, the statistics. A
@@ -933,6 +935,8 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     }
     memset(out, 0, sizeof *out);
     ego_work_start(&state->work, budget(state, params, time_us));
+    /* The scan's bookkeeping: the main direction, the choice, the output. */
+    ego_work_spend(&state->work, EGO_COST_SCAN);
     if (state->search.active) {
         continue_search(state, params, out);
     } else {

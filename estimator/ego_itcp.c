@@ -327,63 +327,6 @@ static unsigned bits32(uint32_t d)
 #endif
 }
 
-/* atan(k / 32), k = 0..32, in binary angle (2^32 a turn), rounded. */
-static const uint32_t atan_32nds[33] = {
-    0u,         21354465u,  42667331u,  63897482u,  85004756u,  105950391u, 126697423u,
-    147211045u, 167458907u, 187411349u, 207041579u, 226325781u, 245243172u, 263775993u,
-    281909457u, 299631651u, 316933406u, 333808132u, 350251643u, 366261957u, 381839095u,
-    396984877u, 411702716u, 425997422u, 439875013u, 453342536u, 466407904u, 479079736u,
-    491367227u, 503280012u, 514828063u, 526021581u, 536870912u};
-
-/* How far quick_bearing may be from fx_atan2, binary angle: 2^18, 0.022
- * deg (the errors below add up to 1.6e-4 rad, 0.009 deg; measured against
- * fx_atan2 over 2e7 random vectors of every magnitude: at most 75 655,
- * 1.1e-4 rad). */
-#define QUICK_BEARING_ERROR 262144
-
-/* atan2(y, x) as a binary angle, within QUICK_BEARING_ERROR: for the
- * matching passes, whose walk only needs a start near the right place
- * (find_match widens its cone by the error). The octant by exact
- * identities as fx_atan2; t = small / big in Q16 by one 32-bit division
- * after both are cut to 16 significant bits of big (error < 2^-14 + 2^-16),
- * and atan(t) interpolated in a table of 32nds (error < 8e-5 rad). */
-static fx_bam32_t quick_bearing(int64_t y, int64_t x)
-{
-    uint64_t ax = (x < 0) ? (uint64_t)0 - (uint64_t)x : (uint64_t)x;
-    uint64_t ay = (y < 0) ? (uint64_t)0 - (uint64_t)y : (uint64_t)y;
-    const bool steep = ay > ax;
-    uint64_t big = steep ? ay : ax;
-    uint64_t small = steep ? ax : ay;
-    for (unsigned k = 0u; k < 32u && big > UINT32_MAX; k++) { /* beyond any scan */
-        big >>= 1;
-        small >>= 1;
-    }
-    uint32_t b = (uint32_t)big;
-    uint32_t s = (uint32_t)small;
-    if (b == 0u) {
-        return 0u;
-    }
-    const unsigned n = bits32(b);
-    if (n > 16u) {
-        b >>= n - 16u;
-        s >>= n - 16u;
-    }
-    const uint32_t t = (s << 16) / b; /* s <= b < 2^16: Q16, 0..65536 */
-    const uint32_t i = t >> 11;
-    uint32_t phi = atan_32nds[i];
-    if (i < 32u) {
-        const uint64_t step = (uint64_t)(atan_32nds[i + 1u] - phi) * (t & 0x7FFu);
-        phi += (uint32_t)(step >> 11);
-    }
-    uint32_t a = steep ? FX_BAM32_QUARTER - phi : phi; /* first quadrant */
-    if (x < 0) {
-        a = FX_BAM32_HALF - a;
-    }
-    if (y < 0) {
-        a = 0u - a;
-    }
-    return a;
-}
 
 /* A current point moved into the last scan's frame, located in its scan
  * order once for every test on it. */
@@ -405,8 +348,8 @@ static void query_at(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, query_t
     q->y = qy;
     q->ox = (int64_t)qx - m->last->origin_x;
     q->oy = (int64_t)qy - m->last->origin_y;
-    q->rel = fx_bam32_diff(quick_bearing(q->oy, q->ox), m->ref);
-    q->slack = QUICK_BEARING_ERROR;
+    q->rel = fx_bam32_diff(fx_atan2_quick(q->oy, q->ox), m->ref);
+    q->slack = FX_ATAN2_QUICK_ERROR;
     *m->units += EGO_COST_MATCH_POINT;
 }
 
@@ -421,8 +364,8 @@ static void locate(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t 
 
 /* As locate, with j0 the first point at or past the exact bearing (as
  * fx_atan2 gives it), for seen_through, which needs the beams on both
- * sides: when no last-scan bearing lies within QUICK_BEARING_ERROR of rel,
- * the first one past rel - QUICK_BEARING_ERROR is that point; otherwise
+ * sides: when no last-scan bearing lies within FX_ATAN2_QUICK_ERROR of rel,
+ * the first one past rel - FX_ATAN2_QUICK_ERROR is that point; otherwise
  * (a beam within 0.022 deg: a few percent of the points) fx_atan2
  * decides. */
 static void locate_exactly(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, uint16_t hint,
@@ -430,10 +373,10 @@ static void locate_exactly(const matcher_t *m, fx_q16_16_t qx, fx_q16_16_t qy, u
 {
     query_at(m, qx, qy, q);
     /* (Within the error of half a turn from ref the exact one may wrap.) */
-    const bool wraps = q->rel < (int64_t)INT32_MIN + QUICK_BEARING_ERROR ||
-                       q->rel > (int64_t)INT32_MAX - QUICK_BEARING_ERROR;
-    uint16_t j0 = lower_bound(m, q->rel - QUICK_BEARING_ERROR, hint);
-    if (wraps || (j0 < m->last->count && bearing_below(m, j0, q->rel + QUICK_BEARING_ERROR))) {
+    const bool wraps = q->rel < (int64_t)INT32_MIN + FX_ATAN2_QUICK_ERROR ||
+                       q->rel > (int64_t)INT32_MAX - FX_ATAN2_QUICK_ERROR;
+    uint16_t j0 = lower_bound(m, q->rel - FX_ATAN2_QUICK_ERROR, hint);
+    if (wraps || (j0 < m->last->count && bearing_below(m, j0, q->rel + FX_ATAN2_QUICK_ERROR))) {
         j0 = lower_bound(m, fx_bam32_diff(fx_atan2(q->oy, q->ox), m->ref), j0);
     }
     q->j0 = j0;

@@ -170,8 +170,10 @@ EGO_NOINLINE static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_
     return f->ok;
 }
 
-/* Matches current point i at the run's pose into its group's sums. */
-EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps)
+/* Matches current point i at the run's pose into its group's sums; counts
+ * the walk's steps and the segments tried (their work). */
+EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps,
+                                     uint32_t *fits)
 {
     const ego_scan_t *l = run->last;
     const ego_scan_t *c = run->current;
@@ -186,14 +188,12 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
     ego_track_sums_t *g = &run->group[on_main ? 0 : 1];
     g->points++;
 
-    const int64_t rel =
-        fx_bam32_diff(fx_atan2((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
+    /* The bearing only picks the segment (its neighbours are tried too):
+     * the quick arctangent does. */
+    const int64_t rel = fx_bam32_diff(
+        fx_atan2_quick((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
     const uint16_t j = locate(run, rel, steps);
     run->hint = j;
-    if (seen_through(run, j, qx, qy)) {
-        g->seen_through++;
-        return; /* in space the last scan saw empty: no partner there */
-    }
     /* The segment j - 1 -> j spans the bearing; when it does not take the
      * point (a break, an end), its neighbours on either side may. */
     segment_fit_t best = {false, 0, 0, 0};
@@ -207,9 +207,12 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
             (!best.ok || abs64(f.d) < abs64(best.d))) {
             best = f;
         }
-        (*steps)++;
+        (*fits)++;
     }
     if (!best.ok) {
+        if (seen_through(run, j, qx, qy)) {
+            g->seen_through++; /* in space the last scan saw empty */
+        }
         return;
     }
     const int32_t nx = best.nx;
@@ -349,16 +352,21 @@ static void close_pass(ego_track_run_t *run)
 
 bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
 {
-    const uint32_t point_max = EGO_COST_TRACK_POINT + (WALK_MAX + 16u) * EGO_COST_MATCH_STEP;
+    /* A point: the walk (at most WALK_MAX steps and a binary search of 16)
+     * and at most three segments tried. */
+    const uint32_t point_max = EGO_COST_TRACK_POINT + (WALK_MAX + 16u) * EGO_COST_MATCH_STEP +
+                               3u * EGO_COST_TRACK_FIT;
     while (!run->finished) {
         if (run->next < run->current->count) {
             if (!ego_work_allows(work, point_max)) {
                 return false;
             }
             uint32_t steps = 0u;
-            match_point(run, run->next, &steps);
+            uint32_t fits = 0u;
+            match_point(run, run->next, &steps, &fits);
             run->next++;
-            ego_work_spend(work, EGO_COST_TRACK_POINT + steps * EGO_COST_MATCH_STEP);
+            ego_work_spend(work, EGO_COST_TRACK_POINT + steps * EGO_COST_MATCH_STEP +
+                                     fits * EGO_COST_TRACK_FIT);
         } else {
             if (!ego_work_allows(work, EGO_COST_SOLVE)) {
                 return false;

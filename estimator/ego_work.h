@@ -32,13 +32,14 @@ typedef struct {
 #define EGO_COST_AH_POINT 150u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */
 #define EGO_COST_HTAH_VOTE 70u           /* ... plus per vote cast */
-#define EGO_COST_CORRELATE_PRODUCT 12u   /* histogram correlation, per bin product */
-#define EGO_COST_MATCH_POINT 560u        /* ITCP / coarse probe: one point located */
-#define EGO_COST_MATCH_STEP 24u          /* ... plus per scan point walked past */
-#define EGO_COST_MATCH_SEGMENT 360u      /* ... plus per segment distance computed */
-#define EGO_COST_TRACK_POINT 650u        /* tracking (ego_track.c): one point matched */
+#define EGO_COST_CORRELATE_PRODUCT 40u   /* histogram correlation, per bin product */
+#define EGO_COST_MATCH_POINT 650u        /* ITCP / coarse probe: one point located */
+#define EGO_COST_MATCH_STEP 28u          /* ... plus per scan point walked past */
+#define EGO_COST_MATCH_SEGMENT 420u      /* ... plus per segment distance computed */
+#define EGO_COST_TRACK_POINT 550u        /* tracking (ego_track.c): one point matched ... */
+#define EGO_COST_TRACK_FIT 420u          /* ... plus per segment tried */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
-#define EGO_COST_SCAN 20000u             /* per scan: bookkeeping, choosing, the output */
+#define EGO_COST_SCAN 30000u             /* per scan: bookkeeping, choosing, the output */
 
 /* The most one located point can cost: its walk on both sides. */
 #define EGO_COST_MATCH_POINT_MAX(walk) \

@@ -1,13 +1,15 @@
 /* main_replay.c - the firmware image of the loop: the same portable loop
  * as `lmsego replay` (firmware/ego_loop.h) over a recorded telegram stream
  * compiled into flash (lmsego_stream, generated from a .lms file by
- * cmake/bin2c.cmake), writing the same CSV lines to UART0.
+ * cmake/bin2c.cmake), writing the same CSV lines to UART0. Built with
+ * REPLAY_BUDGET it runs the estimator within its sensor-rate budget
+ * (ego_budget_defaults: `lmsego replay --budget 30e6` on the host).
  *
  * It also measures itself: the instructions between consecutive output
  * lines (one scan: framing, decoding, the estimator and the line), counted
  * with SysTick under QEMU's -icount (target.h), and the stack high-water
  * mark. After the stream it writes, as lines starting with '#':
- *   # insns_per_scan median=N max=M scans=S
+ *   # insns_per_scan median=N max=M scans=S   (budget images: max=M budget=B)
  *   # stage_insns prepare=.. tangents=.. ... (profile images only)
  *   # stack_bytes used=U of=T
  * and exits 0 (semihosting). The lines before them are byte-identical to
@@ -28,6 +30,10 @@ extern const uint32_t lmsego_stream_size;
  * streams have at most a few hundred scans; more are still counted in the
  * maximum). */
 #define MAX_MEASURED 512u
+
+/* The loop's own work per scan beside the estimator's (measured: 32 k
+ * for 181 values, 45 k for 361; docs/firmware.md). */
+#define LOOP_ALLOWANCE 50000u
 
 static ego_loop_config_t config;
 static ego_loop_t loop;
@@ -110,6 +116,9 @@ int main(void)
     target_uart_init();
     target_clock_init();
     ego_loop_defaults(&config);
+#if defined(REPLAY_BUDGET)
+    ego_budget_defaults(&config.ego);
+#endif
     config.observer = observe;
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, NULL};
@@ -128,6 +137,14 @@ int main(void)
     report_field("# insns_per_scan median=",
                  (uint64_t)report_median(insns, measured) * TARGET_INSNS_PER_TICK);
     report_field(" max=", (uint64_t)insns_max * TARGET_INSNS_PER_TICK);
+#if defined(REPLAY_BUDGET)
+    /* A scan's budget in instructions: the estimator's (its units are
+     * upper bounds of its instructions, ego_work.h) and LOOP_ALLOWANCE for
+     * the loop's own framing, decoding and line: 1.0 M for 361 values at
+     * 37.5 Hz, 0.6 M for 181 at 75 Hz (issue 15). */
+    report_field(" budget=", (uint64_t)config.ego.work_per_scan + LOOP_ALLOWANCE +
+                                 (uint64_t)loop.period_us * config.ego.work_per_s / 1000000u);
+#endif
     report_field(" scans=", ego_loop_stats(&loop)->scans);
 #if defined(EGO_PROFILE)
     ego_profile_stage(EGO_STAGE_OTHER, units_mark);

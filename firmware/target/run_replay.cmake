@@ -2,10 +2,11 @@
 #   -DEMULATOR=<qemu command, a list ending in -kernel> -DIMAGE=<elf>
 #   -DSTREAM=<.lms> -DHOST_LMSEGO=<host lmsego or empty> -DOUT=<prefix>
 #   [-DMAX_INSNS=<gate on the largest scan's instructions>]
-#   [-DHOST_ARGS=<options of the host's lmsego replay, e.g. --bounded>]
+#   [-DHOST_ARGS=<options of the host's lmsego replay, e.g. --budget;30e6>]
 # Passes when the image exits 0, prints its '# insns_per_scan' line (with
 # a max at or below MAX_INSNS, when given: instruction counts under
-# -icount are the same run after run, so the gate catches any growth), and
+# -icount are the same run after run, so the gate catches any growth; and
+# at or below the budget it prints, when it prints one), and
 # (with HOST_LMSEGO) every other line equals the host's `lmsego replay`.
 # Writes OUT.target (all output), OUT.host, OUT.figures (the '#' lines).
 include(${CMAKE_CURRENT_LIST_DIR}/run_image.cmake)
@@ -23,6 +24,13 @@ if(MAX_INSNS)
             "slower; find why, or move the gate with the new figures in docs/firmware.md")
     endif()
     message(STATUS "hardest scan ${CMAKE_MATCH_2} instructions, gate ${MAX_INSNS}")
+endif()
+if(figures MATCHES "max=([0-9]+) budget=([0-9]+)")
+    if(CMAKE_MATCH_1 GREATER CMAKE_MATCH_2)
+        message(FATAL_ERROR "the hardest scan took ${CMAKE_MATCH_1} instructions, above its "
+            "budget of ${CMAKE_MATCH_2}: a work cost in estimator/ego_work.h is too low")
+    endif()
+    message(STATUS "hardest scan ${CMAKE_MATCH_1} instructions, budget ${CMAKE_MATCH_2}")
 endif()
 lmsego_check_stack("${figures}")
 if(HOST_LMSEGO STREQUAL "")
