@@ -5,9 +5,10 @@
  * waits for the next scan's budget, ego.h). The units are counted, not
  * timed: the same input gives the same count on the host and the target,
  * so the output stays bit-identical. One unit stands for about one
- * Cortex-M3 instruction: each cost below is an upper bound of what the
- * step measured under QEMU (docs/firmware.md, "The work budget"), so a
- * scan never takes more instructions than the units it was allowed.
+ * Cortex-M3 instruction: each cost below bounds what the step measured
+ * under QEMU on Cortex-M3 and M4F with about 8 % to spare (docs/estimator.md,
+ * "The work budget"; ctest target_budget_<stream> checks it), so a scan
+ * never takes more instructions than the units it was allowed.
  */
 #ifndef EGO_WORK_H
 #define EGO_WORK_H
@@ -32,12 +33,12 @@ typedef struct {
 #define EGO_COST_AH_POINT 150u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */
 #define EGO_COST_HTAH_VOTE 70u           /* ... plus per vote cast */
-#define EGO_COST_CORRELATE_PRODUCT 40u   /* histogram correlation, per bin product */
-#define EGO_COST_MATCH_POINT 650u        /* ITCP / coarse probe: one point located */
-#define EGO_COST_MATCH_STEP 28u          /* ... plus per scan point walked past */
-#define EGO_COST_MATCH_SEGMENT 420u      /* ... plus per segment distance computed */
-#define EGO_COST_TRACK_POINT 550u        /* tracking (ego_track.c): one point matched ... */
-#define EGO_COST_TRACK_FIT 420u          /* ... plus per segment tried */
+#define EGO_COST_CORRELATE_PRODUCT 44u   /* histogram correlation, per bin product */
+#define EGO_COST_MATCH_POINT 720u        /* ITCP / coarse probe: one point located */
+#define EGO_COST_MATCH_STEP 31u          /* ... plus per scan point walked past */
+#define EGO_COST_MATCH_SEGMENT 460u      /* ... plus per segment distance computed */
+#define EGO_COST_TRACK_POINT 600u        /* tracking (ego_track.c): one point matched ... */
+#define EGO_COST_TRACK_FIT 460u          /* ... plus per segment tried */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_SCAN 30000u             /* per scan: bookkeeping, choosing, the output */
 
