@@ -207,7 +207,6 @@ static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_st
     return a->residual < b->residual;
 }
 
-
 /* Does a tracking result stand: good enough on its own, or, over a short
  * interval, converged where a trusted prediction said with half the
  * inlier share (moving objects and thinned beams leave points unmatched
@@ -264,7 +263,8 @@ static uint8_t other_slot(uint8_t slot)
 }
 
 /* An attempt: [the coarse search from start, then] ITCP with the rotation
- * held, then free (the paper's two stages). */
+ * held, then with it solved as well (the paper's two stages); under a
+ * budget the tracking registration instead. */
 static void attempt_begin(ego_state_t *state, const ego_pose_t *start, bool with_coarse,
                           const ego_coarse_params_t *cp)
 {

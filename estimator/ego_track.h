@@ -42,7 +42,8 @@
 
 typedef struct {
     fx_q16_16_t radius_start;         /* |d| accepted in the first iteration, m; 0.3 */
-    fx_q16_16_t radius;               /* ... in the following ones, m; 0.1 */
+    fx_q16_16_t radius;               /* ... then a third of the last, down to this, m;
+                                         0.05 */
     uint8_t max_iterations;           /* 10 */
     fx_q16_16_t converge_translation; /* a step this small has converged, m; 0.0001 */
     fx_bam32_t converge_rotation;     /* ... and this, 0.001 deg */

@@ -44,6 +44,19 @@ static void prepared_scan(const synth_wall_t *walls, unsigned nwalls, double x, 
     ego_tfit_fit_scan(scan, &fit);
 }
 
+/* g_last at the origin, g_current moved by (dx, dy, th radians), the walls
+ * seen from both; the main direction of g_last (its HTAH, in g_hist). */
+static fx_bam32_t prepared_pair(const synth_wall_t *walls, unsigned nwalls, double dx, double dy,
+                                double th)
+{
+    prepared_scan(walls, nwalls, 0.0, 0.0, 0.0, &g_last);
+    prepared_scan(walls, nwalls, dx, dy, th, &g_current);
+    ego_hist_params_t hp;
+    ego_hist_defaults(&hp);
+    (void)ego_hist_build(&g_last, &hp, &g_hist);
+    return ego_hist_main_direction(&g_hist);
+}
+
 static void test_itcp_closed_form_matches_double_oracle(void)
 {
     enum { N = 300 };
@@ -106,17 +119,13 @@ static void register_room(const motion_t *mo, bool weighted, double init_err_deg
                           double tol_deg)
 {
     const double th = mo->dtheta_deg * FX_HOST_PI / 180.0;
-    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
-    prepared_scan(synth_room, synth_room_walls, mo->dx, mo->dy, th, &g_current);
-    ego_hist_params_t hp;
-    ego_hist_defaults(&hp);
-    (void)ego_hist_build(&g_last, &hp, &g_hist);
+    const fx_bam32_t main_direction = prepared_pair(synth_room, synth_room_walls, mo->dx, mo->dy, th);
     itcp_params_t p;
     ego_itcp_defaults(&p);
     p.weighted = weighted;
     const ego_pose_t initial = {fx_bam32_from_rad(th + init_err_deg * FX_HOST_PI / 180.0), 0, 0};
     ego_itcp_result_t r;
-    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_itcp_register(&g_last, &g_current, ego_hist_main_direction(&g_hist),
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_itcp_register(&g_last, &g_current, main_direction,
                                                  &initial, false, &p, &r));
     const double ex = fx_q16_16_to_double(r.pose.x) - mo->dx;
     const double ey = fx_q16_16_to_double(r.pose.y) - mo->dy;
@@ -388,12 +397,7 @@ static void run_case_setup(const run_case_t *c, ego_pose_t *initial, fx_bam32_t 
     const synth_wall_t *walls = corridor ? synth_corridor : synth_room;
     const unsigned nwalls = corridor ? synth_corridor_walls : synth_room_walls;
     const double th = c->dtheta_deg * FX_HOST_PI / 180.0;
-    prepared_scan(walls, nwalls, 0.0, 0.0, 0.0, &g_last);
-    prepared_scan(walls, nwalls, c->dx, c->dy, th, &g_current);
-    ego_hist_params_t hp;
-    ego_hist_defaults(&hp);
-    (void)ego_hist_build(&g_last, &hp, &g_hist);
-    *main_direction = ego_hist_main_direction(&g_hist);
+    *main_direction = prepared_pair(walls, nwalls, c->dx, c->dy, th);
     ego_itcp_defaults(&g_run_params);
     g_run_params.weighted = c->weighted;
     g_run_params.tangent_gate = c->tangent_gate;
