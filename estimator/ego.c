@@ -223,8 +223,11 @@ static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
                             const ego_itcp_result_t *r, const ego_pose_t *predicted,
                             bool have_prediction, uint32_t dt_us)
 {
+    /* Ended by the budget before its iterations did: unconverged, but a
+     * pose that moved by millimetres in the last pass. */
+    const bool cut = !r->converged && r->iterations < params->track.max_iterations;
     const bool confirmed = have_prediction && dt_us <= CONFIRM_INTERVAL_US &&
-                           st == EGO_ITCP_OK && r->converged &&
+                           st == EGO_ITCP_OK && (r->converged || cut) &&
                            close_to(&r->pose, predicted, params) &&
                            worst_share(r) >= params->accept_fraction / 2;
     return confirmed || good_enough(params, st, r, false);
@@ -304,7 +307,7 @@ static bool attempt_run(ego_state_t *state, const ego_params_t *params)
             STAGE(EGO_STAGE_REGISTER);
             if (se->cursor == 0u) {
                 ego_track_start(&state->tracking, last, cur, se->main_direction, &se->start,
-                                &params->track);
+                                false, &params->track);
                 se->cursor = 1u;
             }
             if (!ego_track_step(&state->tracking, &state->work)) {
@@ -403,12 +406,9 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
                                    params->merge_bins);
         se->cursor = 1u;
     }
-    uint32_t filled = 0u;
-    for (uint16_t b = 0u; b < EGO_HIST_BINS; b++) {
-        filled += (state->hist[cur].bin[b] != 0u) ? 1u : 0u;
-    }
-    /* Per shift: a product per filled bin, and the shift's own work. */
-    const uint32_t per_shift = (filled + 8u) * EGO_COST_CORRELATE_PRODUCT;
+    /* Per shift: its products, and the shift's own work. */
+    const uint32_t per_shift =
+        (ego_hist_correlation_products(&state->hist[cur]) + 8u) * EGO_COST_CORRELATE_PRODUCT;
     const uint32_t setup = EGO_HIST_BINS * COST_CORRELATE_BIN;
     STAGE(EGO_STAGE_CORRELATE);
     for (;;) {
@@ -731,16 +731,11 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
     return params->work_per_scan + interval * params->work_per_s / US_PER_S;
 }
 
-/* Tracking's work per point it registers: its passes at most (the
- * iterations, the fine run, the statistics) of a located point with a
- * short walk. */
-#define TRACK_POINT_COST (EGO_COST_TRACK_POINT + 4u * EGO_COST_MATCH_STEP + EGO_COST_TRACK_FIT)
-
-/* Passes tracking typically takes from a good prediction: a few
- * iterations to converge, two or three fine ones, the statistics. A
- * tracking that takes more may run out of budget: the search then takes
- * the scan. */
-#define TRACK_PASSES 6u
+/* Full passes tracking needs from a good prediction: its two coarse passes
+ * (a quarter and half of the points) and two full ones, the last of which
+ * gives the statistics (ego_track.h). A tracking that could take more ends
+ * where the budget does, converged if it had settled. */
+#define TRACK_PASSES 3u
 
 /* Every how many beams a point is kept so that preparing the points and
  * tracking them fits the scan's budget (1: all; at most 8, ego_scan.h). */
@@ -753,7 +748,7 @@ static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t
         valid += (scan->range[k] != 0u) ? 1u : 0u;
     }
     const uint64_t left = ego_work_left(&state->work);
-    const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * TRACK_POINT_COST;
+    const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * EGO_TRACK_TYPICAL_POINT;
     const uint64_t fixed = EGO_COST_SCAN + (uint64_t)scan->count * EGO_COST_BEAM_SKIPPED;
     const uint64_t points = (left > fixed) ? (left - fixed) / per_point : 0u;
     if (points >= valid) {
@@ -826,7 +821,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
     STAGE(EGO_STAGE_REGISTER);
     ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, predicted,
-                    &params->track);
+                    true, &params->track);
     const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
     if (!done) {

@@ -412,6 +412,10 @@ static void find_runs(const scaled_t *a, runs_t *r)
     }
 }
 
+/* A run's own work in a shift (its place modulo M, two pieces), counted as
+ * this many products; a scattered bin's indexing as one more. */
+#define RUN_OVERHEAD_PRODUCTS 6u
+
 /* M sum_i s[i] t[i + shift] - S T (indices modulo M): the centred dot
  * product over M, over a's runs (the zero bins add nothing), each as at
  * most two straight pieces, or over its scattered bins; runs NULL: over
@@ -554,6 +558,21 @@ bool ego_hist_correlation_step(ego_hist_correlation_t *c, const ego_hist_t *curr
     }
     c->done = c->next > c->mid + c->limit;
     return c->done;
+}
+
+uint32_t ego_hist_correlation_products(const ego_hist_t *current)
+{
+    const scaled_t a = scale(current);
+    runs_t r;
+    find_runs(&a, &r);
+    if (r.dense) {
+        return (r.scattered > 0u) ? 2u * r.scattered : EGO_HIST_BINS;
+    }
+    uint32_t products = 0u;
+    for (uint8_t k = 0u; k < r.count; k++) {
+        products += r.run[k].length + RUN_OVERHEAD_PRODUCTS;
+    }
+    return products;
 }
 
 void ego_hist_correlation_result(const ego_hist_correlation_t *c, ego_hist_match_t *match)

@@ -127,8 +127,8 @@ void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_ba
 /* The same correlation in steps, for a caller with a work budget: start,
  * then steps of at most `shifts` shifts each until one returns true, then
  * the result (ego_hist_correlate is all three at once). A step costs a
- * setup of a few passes over the bins plus, per shift, at most one
- * product per filled bin of the current histogram. The histograms must not
+ * setup of a few passes over the bins plus, per shift, the products of
+ * ego_hist_correlation_products. The histograms must not
  * change between steps. */
 #define EGO_HIST_PEAKS_MAX 16u
 
@@ -159,6 +159,11 @@ void ego_hist_correlation_start(ego_hist_correlation_t *c, fx_bam32_t centre,
 bool ego_hist_correlation_step(ego_hist_correlation_t *c, const ego_hist_t *current,
                                const ego_hist_t *last, uint32_t shifts);
 void ego_hist_correlation_result(const ego_hist_correlation_t *c, ego_hist_match_t *match);
+/* The work of one shift of a correlation against `current`, in products
+ * (EGO_COST_CORRELATE_PRODUCT each): the bins the correlation multiplies,
+ * which depend on how the histogram's filled bins lie, plus their runs'
+ * own work. */
+uint32_t ego_hist_correlation_products(const ego_hist_t *current);
 /* Shifts in all (2 max_shift_bins + 1, capped). */
 uint32_t ego_hist_correlation_shifts(const ego_hist_correlation_t *c);
 

@@ -52,8 +52,6 @@ typedef struct {
     uint8_t flags[EGO_MAX_POINTS];       /* EGO_LINK_* | EGO_POINT_* */
     /* Filled by ego_tfit_fit_scan (ego_tfit.h). */
     fx_bam32_t tangent[EGO_MAX_POINTS];  /* direction mod 180 deg: bit 31 is 0 */
-    uint16_t tangent_rms[EGO_MAX_POINTS];/* weighted RMS residual of the fit,
-                                            Q16.16 metres saturated to 65535 */
 } ego_scan_t;
 
 /* The preparation thresholds. ego_prep_defaults() gives the values of

@@ -54,25 +54,19 @@ void ego_tfit_defaults(ego_tfit_params_t *params);
 bool ego_tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, uint8_t passes,
               fx_q16_16_t sigma_min, fx_bam32_t *tangent, fx_q16_16_t *rms);
 
-/* Fits every point of scan: sets tangent[], tangent_rms[] and the
- * EGO_POINT_HAS_TANGENT flag. */
+/* Fits every point of scan: sets tangent[] and the EGO_POINT_HAS_TANGENT
+ * flag. */
 void ego_tfit_fit_scan(ego_scan_t *scan, const ego_tfit_params_t *params);
 
 /* The cheap tangent of every point: the direction of the chord between
  * its linked neighbours (one side at a segment's end; none for a lone
- * point), modulo 180 deg, tangent_rms 0. For tracking, where a tangent
+ * point), modulo 180 deg. For tracking, where a tangent
  * only sorts a point into ITCP's two groups (10 deg apart at least): about
  * a fifth of a plain fit's work. */
 void ego_tfit_chord_scan(ego_scan_t *scan);
 
-/* Fits point i alone (its tangent, tangent_rms and flag): the work of one
+/* Fits point i alone (its tangent and flag): the work of one
  * point, for a caller that spreads the fits over a budget (ego.c). */
 void ego_tfit_fit_point(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t i);
-
-/* The same for points first, first + stride, ... only (stride >= 1); the
- * others get no tangent. For the bounded profile, where only ITCP's sample
- * of the points needs one. */
-void ego_tfit_fit_scan_sample(ego_scan_t *scan, const ego_tfit_params_t *params, uint16_t first,
-                          uint16_t stride);
 
 #endif /* EGO_TFIT_H */

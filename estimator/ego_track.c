@@ -10,6 +10,10 @@
  * binary search (a bounded step whatever the hint). */
 #define WALK_MAX 16u
 
+/* Points this far from the origin (Q16.16: 8192 m) match nothing: beyond
+ * any scan, and it keeps the differences of fit_segment in 32 bits. */
+#define FAR_LIMIT ((int64_t)1 << 29)
+
 /* 2^32 / (2 pi) / 2^16 = 10430.378: radians Q16.16 -> binary angle, as
  * (x * 1335088) >> 7. */
 #define BAM_PER_RAD_Q16_X128 1335088
@@ -38,19 +42,41 @@ static int64_t rel_bearing(const ego_track_run_t *run, uint16_t j)
     return fx_bam32_diff(run->last->bearing[j], run->ref);
 }
 
+/* Coarse to fine: the first pass matches every fourth point, the second
+ * every other, the rest all of them (a pass keeps at least COARSE_POINTS
+ * points). From a prediction good to centimetres the first two passes only
+ * need to settle the pose roughly; the full passes make it exact and give
+ * the statistics. */
+#define COARSE_POINTS 64u
+
+static uint8_t pass_stride(const ego_track_run_t *run)
+{
+    uint8_t stride = (run->iteration == 0u) ? 4u : (run->iteration == 1u) ? 2u : 1u;
+    while (stride > 1u && run->current->count / stride < COARSE_POINTS) {
+        stride /= 2u;
+    }
+    return stride;
+}
+
+/* Where the budget ends a run early, a last step this many times the
+ * convergence thresholds still counts as converged (1 mm, 0.01 deg). */
+#define SETTLED 5
+
 static void begin_pass(ego_track_run_t *run)
 {
     memset(run->group, 0, sizeof run->group);
     fx_sincos(run->pose.theta, &run->sn, &run->cs);
+    run->stride = pass_stride(run);
     run->next = 0u;
     run->hint = (uint16_t)(run->last->count / 2u);
 }
 
 void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
-                     fx_bam32_t main_direction, const ego_pose_t *initial,
+                     fx_bam32_t main_direction, const ego_pose_t *initial, bool until_budget,
                      const ego_track_params_t *params)
 {
     memset(run, 0, sizeof *run);
+    run->until_budget = until_budget;
     run->last = last;
     run->current = current;
     run->params = params;
@@ -139,33 +165,67 @@ typedef struct {
     int64_t d;  /* signed distance, Q16.16 m */
 } segment_fit_t;
 
+/* The unit normal of segment a -> a + 1 (a surface, its ends apart) into
+ * the run's cache; false when the segment has no length. *computed counts
+ * the square roots and divisions (their work). */
+EGO_NOINLINE static bool segment_normal(ego_track_run_t *run, uint16_t a, int32_t sx, int32_t sy,
+                                        uint32_t *computed)
+{
+    int16_t *n = run->normal[a];
+    if (n[0] != 0 || n[1] != 0) {
+        return true;
+    }
+    (*computed)++;
+    /* The segment scaled to 15 bits (its larger side in [2^14, 2^15)):
+     * its direction to 2^-14 rad, and 32-bit arithmetic from here. */
+    uint32_t big = (uint32_t)((sx < 0) ? -sx : sx);
+    const uint32_t other = (uint32_t)((sy < 0) ? -sy : sy);
+    big = (other > big) ? other : big;
+    if (big == 0u) {
+        return false;
+    }
+    int32_t down = 1;
+    int32_t up = 1;
+    for (; big >= (1u << 15); big >>= 1) {
+        down *= 2;
+    }
+    for (; big < (1u << 14); big <<= 1) {
+        up *= 2;
+    }
+    const int32_t x = sx / down * up;
+    const int32_t y = sy / down * up;
+    const int32_t length = (int32_t)fx_sqrt_u64((uint64_t)((int64_t)x * x + (int64_t)y * y));
+    n[0] = (int16_t)((-y * 16384) / length);
+    n[1] = (int16_t)((x * 16384) / length);
+    return true;
+}
+
 /* The point (qx, qy) against segment a -> a + 1: true when the segment is a
  * surface, the point lies along it (at most a quarter of it beyond either
- * end) and within the run's radius of its line. */
-EGO_NOINLINE static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_q16_16_t qx, fx_q16_16_t qy,
-                        segment_fit_t *f)
+ * end) and within the run's reach of its line. The point is within
+ * FAR_LIMIT of the origin and a segment's ends within the LMS's 82 m of
+ * it, so the differences below fit in 32 bits and each product is one
+ * 32 x 32 -> 64-bit multiplication. */
+EGO_NOINLINE static bool fit_segment(ego_track_run_t *run, uint16_t a, fx_q16_16_t qx, fx_q16_16_t qy,
+                                     segment_fit_t *f, uint32_t *computed)
 {
     const ego_scan_t *l = run->last;
     if (a + 1u >= l->count || (l->flags[a] & EGO_LINK_BREAK) != 0u) {
         return false;
     }
-    const int64_t sx = (int64_t)l->x[a + 1u] - l->x[a];
-    const int64_t sy = (int64_t)l->y[a + 1u] - l->y[a];
-    const int64_t ex = (int64_t)qx - l->x[a];
-    const int64_t ey = (int64_t)qy - l->y[a];
-    const int64_t along = ex * sx + ey * sy;
-    const int64_t length_sq = sx * sx + sy * sy;
-    if (length_sq == 0 || 4 * along < -length_sq || 4 * along > 5 * length_sq) {
+    const int32_t sx = l->x[a + 1u] - l->x[a];
+    const int32_t sy = l->y[a + 1u] - l->y[a];
+    const int32_t ex = qx - l->x[a];
+    const int32_t ey = qy - l->y[a];
+    const int64_t along = (int64_t)ex * sx + (int64_t)ey * sy;
+    const int64_t length_sq = (int64_t)sx * sx + (int64_t)sy * sy;
+    if (length_sq == 0 || 4 * along < -length_sq || 4 * along > 5 * length_sq ||
+        !segment_normal(run, a, sx, sy, computed)) {
         return false;
     }
-    /* |s| < 2^24 (Q16.16 of 256 m): the products stay in range. */
-    const int64_t length = fx_sqrt_u64((uint64_t)length_sq);
-    if (length == 0) {
-        return false;
-    }
-    f->nx = (int32_t)((-sy * 16384) / length);
-    f->ny = (int32_t)((sx * 16384) / length);
-    f->d = (ex * f->nx + ey * f->ny) / 16384;
+    f->nx = run->normal[a][0];
+    f->ny = run->normal[a][1];
+    f->d = ((int64_t)ex * f->nx + (int64_t)ey * f->ny) / 16384;
     f->ok = abs64(f->d) <= reach(run);
     return f->ok;
 }
@@ -173,7 +233,7 @@ EGO_NOINLINE static bool fit_segment(const ego_track_run_t *run, uint16_t a, fx_
 /* Matches current point i at the run's pose into its group's sums; counts
  * the walk's steps and the segments tried (their work). */
 EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps,
-                                     uint32_t *fits)
+                                     uint32_t *fits, uint32_t *normals)
 {
     const ego_scan_t *l = run->last;
     const ego_scan_t *c = run->current;
@@ -181,12 +241,20 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
     fx_q16_16_t qx;
     fx_q16_16_t qy;
     ego_pose_apply(&run->pose, run->sn, run->cs, c->x[i], c->y[i], &qx, &qy);
+    /* The point turned, without the translation (the lever arm's). */
+    const int64_t mx = (int64_t)qx - run->pose.x;
+    const int64_t my = (int64_t)qy - run->pose.y;
+    const bool far = abs64(qx) >= FAR_LIMIT || abs64(qy) >= FAR_LIMIT ||
+                     abs64(mx) >= FAR_LIMIT || abs64(my) >= FAR_LIMIT;
     const bool has_tc = (c->flags[i] & EGO_POINT_HAS_TANGENT) != 0u;
     const fx_bam32_t tc = (c->tangent[i] + run->pose.theta) & (FX_BAM32_HALF - 1u);
     const bool on_main =
         has_tc && fx_line_angle_diff(tc, run->main_direction) <= params->main_tolerance;
     ego_track_sums_t *g = &run->group[on_main ? 0 : 1];
     g->points++;
+    if (far) {
+        return; /* nothing of the last scan is near: unmatched */
+    }
 
     /* The bearing only picks the segment (its neighbours are tried too):
      * the quick arctangent does. */
@@ -203,7 +271,7 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
             break;
         }
         segment_fit_t f;
-        if (a >= 0 && fit_segment(run, (uint16_t)a, qx, qy, &f) &&
+        if (a >= 0 && fit_segment(run, (uint16_t)a, qx, qy, &f, normals) &&
             (!best.ok || abs64(f.d) < abs64(best.d))) {
             best = f;
         }
@@ -217,8 +285,8 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
     }
     const int32_t nx = best.nx;
     const int32_t ny = best.ny;
-    const int64_t d = best.d;
-    const uint64_t d_sq = (uint64_t)(d * d);
+    const int32_t d = (int32_t)best.d; /* |d| <= reach */
+    const uint64_t d_sq = (uint64_t)((int64_t)d * d);
     const uint64_t inlier_sq = (uint64_t)((int64_t)params->inlier_distance * params->inlier_distance);
     if (d_sq <= inlier_sq) {
         g->inliers++;
@@ -227,20 +295,18 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
     if (abs64(d) > run->radius) {
         return; /* counted, not used */
     }
-    /* The lever arm: the point turned, without the translation. */
-    const int64_t mx = (int64_t)qx - run->pose.x;
-    const int64_t my = (int64_t)qy - run->pose.y;
-    const int64_t arm = (ny * mx - nx * my) / 16384; /* Q16.16 m */
+    /* The lever arm, Q16.16 m (|m| < FAR_LIMIT). */
+    const int32_t arm = (int32_t)(((int64_t)ny * (int32_t)mx - (int64_t)nx * (int32_t)my) / 16384);
     g->n++;
     g->a[0] += (int64_t)nx * nx;  /* Q28 */
     g->a[1] += (int64_t)nx * ny;
     g->a[2] += (int64_t)nx * arm; /* Q30 m */
     g->a[3] += (int64_t)ny * ny;
     g->a[4] += (int64_t)ny * arm;
-    g->a[5] += arm * arm;         /* Q32 m^2 */
+    g->a[5] += (int64_t)arm * arm; /* Q32 m^2 */
     g->b[0] += (int64_t)nx * d;   /* Q30 m */
     g->b[1] += (int64_t)ny * d;
-    g->b[2] += arm * d;           /* Q32 m^2 */
+    g->b[2] += (int64_t)arm * d;  /* Q32 m^2 */
     g->sum_sq += d_sq;
 }
 
@@ -321,7 +387,7 @@ static int64_t matches(const ego_track_run_t *run)
 }
 
 /* The end of a pass: the step, convergence, the next pass or the end. */
-static void close_pass(ego_track_run_t *run)
+static void close_pass(ego_track_run_t *run, const ego_work_t *work)
 {
     const ego_track_params_t *params = run->params;
     int64_t dx = 0;
@@ -340,22 +406,39 @@ static void close_pass(ego_track_run_t *run)
     const bool still = abs64(dx) < params->converge_translation &&
                        abs64(dy) < params->converge_translation &&
                        abs64(turn) < (int64_t)params->converge_rotation;
-    if ((still && run->iteration > 1u) || run->iteration >= params->max_iterations) {
+    const bool full = run->stride == 1u;
+    if ((still && full && run->iteration > 1u) || run->iteration >= params->max_iterations) {
         run->converged = still;
         run->finished = true;
         return;
     }
     /* 0.3 m, then a third of it each pass down to the radius. */
     run->radius = (run->radius / 3 > params->radius) ? run->radius / 3 : params->radius;
+    /* Until the budget: a meter that cannot pay for another pass ends the
+     * run here, with the statistics of this one: converged when it was a
+     * full pass whose step was under SETTLED times the convergence
+     * thresholds (the steps shrink geometrically: the pose is then within
+     * about that of the end). */
+    run->stride = pass_stride(run);
+    const uint32_t next_points = (run->current->count + run->stride - 1u) / run->stride;
+    if (run->until_budget &&
+        !ego_work_allows(work, next_points * EGO_TRACK_TYPICAL_POINT + EGO_COST_SOLVE)) {
+        run->converged = full && run->iteration > 1u &&
+                         abs64(dx) < SETTLED * params->converge_translation &&
+                         abs64(dy) < SETTLED * params->converge_translation &&
+                         abs64(turn) < SETTLED * (int64_t)params->converge_rotation;
+        run->finished = true;
+        return;
+    }
     begin_pass(run);
 }
 
 bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
 {
     /* A point: the walk (at most WALK_MAX steps and a binary search of 16)
-     * and at most three segments tried. */
+     * and at most three segments tried, each with its normal to compute. */
     const uint32_t point_max = EGO_COST_TRACK_POINT + (WALK_MAX + 16u) * EGO_COST_MATCH_STEP +
-                               3u * EGO_COST_TRACK_FIT;
+                               3u * (EGO_COST_TRACK_FIT + EGO_COST_TRACK_NORMAL);
     while (!run->finished) {
         if (run->next < run->current->count) {
             if (!ego_work_allows(work, point_max)) {
@@ -363,16 +446,17 @@ bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
             }
             uint32_t steps = 0u;
             uint32_t fits = 0u;
-            match_point(run, run->next, &steps, &fits);
-            run->next++;
+            uint32_t normals = 0u;
+            match_point(run, run->next, &steps, &fits, &normals);
+            run->next = (uint16_t)(run->next + run->stride);
             ego_work_spend(work, EGO_COST_TRACK_POINT + steps * EGO_COST_MATCH_STEP +
-                                     fits * EGO_COST_TRACK_FIT);
+                                     fits * EGO_COST_TRACK_FIT + normals * EGO_COST_TRACK_NORMAL);
         } else {
             if (!ego_work_allows(work, EGO_COST_SOLVE)) {
                 return false;
             }
             ego_work_spend(work, EGO_COST_SOLVE);
-            close_pass(run);
+            close_pass(run, work);
         }
     }
     return true;

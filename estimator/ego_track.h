@@ -56,6 +56,13 @@ typedef struct {
 
 void ego_track_defaults(ego_track_params_t *params);
 
+/* The work of a typical point of a pass (a short walk, one segment tried,
+ * its normal known): what a caller sizes its points by, and what a run
+ * checks its meter for before another pass. A pass whose points cost more
+ * leaves the run unfinished. */
+#define EGO_TRACK_TYPICAL_POINT \
+    (EGO_COST_TRACK_POINT + 4u * EGO_COST_MATCH_STEP + EGO_COST_TRACK_FIT)
+
 /* One group's sums (ego_track.c). Private. */
 typedef struct {
     int64_t n;
@@ -82,18 +89,27 @@ typedef struct {
     uint16_t next;    /* next current point of the pass */
     uint16_t hint;    /* where the last point was found */
     uint8_t iteration;
+    uint8_t stride;   /* every how many current points the pass matches */
+    bool until_budget;
     bool finished;
     bool converged;
     bool failed;
     ego_track_sums_t group[2];
+    /* The unit normals of the last scan's segments (a -> a + 1), Q1.14,
+     * each computed at its first use in the run and kept: (0, 0) not yet. */
+    int16_t normal[EGO_MAX_POINTS][2];
 } ego_track_run_t;
 
+/* until_budget: the run ends where the meter cannot pay for another
+ * typical pass (converged when its last full pass's step was small), for a
+ * caller whose answer is due with this meter; otherwise it waits for more
+ * work (ego_track_step returns false). */
 void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
-                     fx_bam32_t main_direction, const ego_pose_t *initial,
+                     fx_bam32_t main_direction, const ego_pose_t *initial, bool until_budget,
                      const ego_track_params_t *params);
 
 /* Works until finished (true) or the meter cannot pay for the next step:
- * a point (at most EGO_COST_TRACK_POINT_MAX) or a solution. */
+ * a point (at its most) or a solution. */
 bool ego_track_step(ego_track_run_t *run, ego_work_t *work);
 
 /* The result of a finished run (EGO_ITCP_ERR_FEW_MATCHES: too few

@@ -28,17 +28,18 @@ typedef struct {
 #define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per beam kept ... */
 #define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
-#define EGO_COST_TFIT_CHORD 400u         /* one chord tangent (one point) */
+#define EGO_COST_TFIT_CHORD 130u         /* one chord tangent (one point) */
 #define EGO_COST_TFIT_ROBUST 6500u       /* one robust tangent fit (plain + 2 passes) */
-#define EGO_COST_AH_POINT 150u           /* the AH histogram, per point */
+#define EGO_COST_AH_POINT 185u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */
 #define EGO_COST_HTAH_VOTE 70u           /* ... plus per vote cast */
-#define EGO_COST_CORRELATE_PRODUCT 44u   /* histogram correlation, per bin product */
+#define EGO_COST_CORRELATE_PRODUCT 16u   /* histogram correlation, per bin product */
 #define EGO_COST_MATCH_POINT 720u        /* ITCP / coarse probe: one point located */
 #define EGO_COST_MATCH_STEP 31u          /* ... plus per scan point walked past */
 #define EGO_COST_MATCH_SEGMENT 460u      /* ... plus per segment distance computed */
-#define EGO_COST_TRACK_POINT 600u        /* tracking (ego_track.c): one point matched ... */
-#define EGO_COST_TRACK_FIT 460u          /* ... plus per segment tried */
+#define EGO_COST_TRACK_POINT 440u        /* tracking (ego_track.c): one point matched ... */
+#define EGO_COST_TRACK_FIT 90u          /* ... plus per segment tried ... */
+#define EGO_COST_TRACK_NORMAL 300u       /* ... plus per segment normal computed (once a run) */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_SCAN 30000u             /* per scan: bookkeeping, choosing, the output */
 

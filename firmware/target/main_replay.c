@@ -72,6 +72,10 @@ static uint32_t hal_now_us(void *ctx)
 
 /* Called after every scan after the first: the instructions since the
  * previous call are this scan's. */
+#if defined(EGO_PROFILE)
+static void profile_scan_end(bool worst);
+#endif
+
 static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
 {
     (void)ctx;
@@ -85,6 +89,9 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
     if (measured < MAX_MEASURED) {
         insns[measured++] = n;
     }
+#if defined(EGO_PROFILE)
+    profile_scan_end(n > insns_max);
+#endif
     insns_max = n > insns_max ? n : insns_max;
 }
 
@@ -95,6 +102,12 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
  * bookkeeping. */
 static uint64_t stage_insns[EGO_STAGE_COUNT];
 static uint64_t stage_units[EGO_STAGE_COUNT];
+/* The same for the current scan, and for the scan with the most
+ * instructions (where the budget is tightest). */
+static uint64_t scan_insns[EGO_STAGE_COUNT];
+static uint64_t scan_units[EGO_STAGE_COUNT];
+static uint64_t worst_insns[EGO_STAGE_COUNT];
+static uint64_t worst_units[EGO_STAGE_COUNT];
 static ego_stage_t stage_now = EGO_STAGE_OTHER;
 static uint64_t stage_mark;
 static uint64_t units_mark;
@@ -102,12 +115,27 @@ static uint64_t units_mark;
 void ego_profile_stage(ego_stage_t stage, uint64_t units)
 {
     const uint64_t t = target_instructions();
-    stage_insns[stage_now] += t - stage_mark;
     /* The meter starts at 0 each scan. */
-    stage_units[stage_now] += (units >= units_mark) ? units - units_mark : units;
+    const uint64_t spent = (units >= units_mark) ? units - units_mark : units;
+    stage_insns[stage_now] += t - stage_mark;
+    stage_units[stage_now] += spent;
+    scan_insns[stage_now] += t - stage_mark;
+    scan_units[stage_now] += spent;
     stage_now = stage;
     stage_mark = t;
     units_mark = units;
+}
+
+static void profile_scan_end(bool worst)
+{
+    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
+        if (worst) {
+            worst_insns[k] = scan_insns[k];
+            worst_units[k] = scan_units[k];
+        }
+        scan_insns[k] = 0u;
+        scan_units[k] = 0u;
+    }
 }
 #endif
 
@@ -159,6 +187,16 @@ int main(void)
     target_uart_puts("\n# stage_units");
     for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
         report_field(names[k], stage_units[k]);
+    }
+    /* The scan with the most instructions (its other stage includes the
+     * line of the scan before and this scan's framing and decoding). */
+    target_uart_puts("\n# worst_insns");
+    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
+        report_field(names[k], worst_insns[k]);
+    }
+    target_uart_puts("\n# worst_units");
+    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
+        report_field(names[k], worst_units[k]);
     }
 #endif
 #if defined(TARGET_PC_SAMPLING)

@@ -220,7 +220,6 @@ static void test_tfit_scan_follows_segments(void)
     for (uint16_t i = 0u; i < 16u; i++) { /* wall 1, away from the corner */
         TEST_ASSERT_TRUE(scan.flags[i] & EGO_POINT_HAS_TANGENT);
         TEST_ASSERT_TRUE(fx_host_line_angle_diff(fx_bam32_to_rad(scan.tangent[i]), 0.0) < 1e-4);
-        TEST_ASSERT_TRUE(scan.tangent_rms[i] <= 2u);
     }
     for (uint16_t i = 24u; i < 30u; i++) { /* wall 2 up to the break */
         TEST_ASSERT_TRUE(scan.flags[i] & EGO_POINT_HAS_TANGENT);
@@ -235,13 +234,12 @@ static void test_tfit_scan_follows_segments(void)
     /* The link flags are kept. */
     TEST_ASSERT_TRUE(scan.flags[29] & EGO_LINK_BREAK);
     TEST_ASSERT_TRUE(scan.flags[37] & EGO_LINK_GAP);
-    /* At the corner the fit spans both walls: a worse quality figure. */
-    TEST_ASSERT_TRUE(scan.tangent_rms[19] > 100u);
 }
 
-/* The bounded profile fits only ITCP's sample: those points get the same
- * tangent as a fit of every point, the others none. */
-static void test_tfit_scan_sample_fits_only_the_sample(void)
+/* The search refines tangents point by point within its budget: a point
+ * fitted alone gets the tangent a fit of every point gives it, and its
+ * neighbours are left alone. */
+static void test_tfit_point_fits_like_the_scan(void)
 {
     static ego_scan_t all;
     static ego_scan_t some;
@@ -250,14 +248,14 @@ static void test_tfit_scan_sample_fits_only_the_sample(void)
     ego_tfit_params_t params;
     ego_tfit_defaults(&params);
     ego_tfit_fit_scan(&all, &params);
-    some.flags[5] |= EGO_POINT_HAS_TANGENT; /* stale: must be cleared */
-    ego_tfit_fit_scan_sample(&some, &params, 1u, 3u);
     unsigned fitted = 0u;
+    for (uint16_t i = 1u; i < all.count; i = (uint16_t)(i + 3u)) {
+        ego_tfit_fit_point(&some, &params, i);
+    }
     for (uint16_t i = 0u; i < all.count; i++) {
         if (i % 3u == 1u) {
             TEST_ASSERT_EQUAL_UINT8(all.flags[i], some.flags[i]);
             TEST_ASSERT_EQUAL_UINT32(all.tangent[i], some.tangent[i]);
-            TEST_ASSERT_EQUAL_UINT16(all.tangent_rms[i], some.tangent_rms[i]);
             fitted += (some.flags[i] & EGO_POINT_HAS_TANGENT) != 0u ? 1u : 0u;
         } else {
             TEST_ASSERT_FALSE(some.flags[i] & EGO_POINT_HAS_TANGENT);
@@ -277,6 +275,6 @@ int main(void)
     RUN_TEST(test_tfit_m_estimator_rejects_an_outlier);
     RUN_TEST(test_tfit_rejects_degenerate_input);
     RUN_TEST(test_tfit_scan_follows_segments);
-    RUN_TEST(test_tfit_scan_sample_fits_only_the_sample);
+    RUN_TEST(test_tfit_point_fits_like_the_scan);
     return UNITY_END();
 }
