@@ -229,7 +229,7 @@ static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
     const bool confirmed = have_prediction && dt_us <= CONFIRM_INTERVAL_US &&
                            st == EGO_ITCP_OK && (r->converged || cut) &&
                            close_to(&r->pose, predicted, params) &&
-                           worst_share(r) >= params->accept_fraction / 2;
+                           balanced_share(r) >= params->accept_fraction / 2;
     return confirmed || good_enough(params, st, r, false);
 }
 
@@ -465,6 +465,18 @@ static void candidate_begin(ego_state_t *state)
     attempt_begin(state, &start, false, NULL);
 }
 
+/* Under a budget: does a registration after a coarse pass confirm a
+ * trusted prediction (converged within its trust distance)? The coarse
+ * search around the prediction found nothing better nearby, and the
+ * prediction is itself evidence: the answer, even when a group's share is
+ * low (part of the scene changed). */
+static bool confirms_prediction(const ego_params_t *params, const ego_search_t *se,
+                                const ego_itcp_result_t *r)
+{
+    return se->light && se->have_prediction && r->converged &&
+           close_to(&r->pose, &se->predicted, params);
+}
+
 /* After a candidate's attempt: the next coarse pass (around the
  * prediction, then over the wide window), or the verdict on it. */
 static void candidate_next(ego_state_t *state, const ego_params_t *params)
@@ -483,7 +495,8 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
         se->pass++;
     }
     if (se->pass < se->pass_end &&
-        !good_enough(params, se->candidate_status, &se->candidate, false)) {
+        !good_enough(params, se->candidate_status, &se->candidate, false) &&
+        !(se->with_coarse && confirms_prediction(params, se, &se->candidate))) {
         ego_coarse_params_t cp = params->coarse;
         if (se->pass == 1u && se->known_motion) {
             cp.window = params->coarse_window_wide;
@@ -514,7 +527,14 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
         se->best_k = se->k;
     }
     se->k++;
-    if (se->k < se->n && !good_enough(params, se->best_status, &se->best, true)) {
+    if (se->with_coarse && confirms_prediction(params, se, &se->best)) {
+        se->stage = SEARCH_SWEEP;
+        se->step = ATTEMPT_DONE;
+        return;
+    }
+    /* Under a budget the first candidate good enough ends the search: its
+     * answer is due, and more candidates cost scans. */
+    if (se->k < se->n && !good_enough(params, se->best_status, &se->best, !se->light)) {
         candidate_begin(state);
         return;
     }
@@ -688,7 +708,8 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     /* The light search (under a budget) registers thinned scans: a best
      * candidate that is not good enough is no answer there. */
     const bool fits = !se->light || se->stage_tracked ||
-                      good_enough(params, se->best_status, &se->best, false);
+                      good_enough(params, se->best_status, &se->best, false) ||
+                      confirms_prediction(params, se, &se->best);
     const bool matched = fits && output_match(se->best_status, &se->best, se->have_prediction,
                                               &se->predicted, se->main_direction, out);
     if (matched) {
