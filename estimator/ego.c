@@ -59,6 +59,7 @@ void ego_reset(ego_state_t *state)
     state->motion_dt_us = 0u;
     state->predictable = false;
     state->misses = 0u;
+    state->bridge = false;
     state->have_previous = false;
     state->previous_time_us = 0u;
     state->refined[0] = false;
@@ -458,6 +459,30 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
     return true;
 }
 
+/* The coarse search of pass 0 (around the prediction) or 1 (the wide
+ * window, or the first window when no motion is known). */
+static ego_coarse_params_t coarse_pass(const ego_search_t *se, const ego_params_t *params,
+                                       uint8_t pass)
+{
+    ego_coarse_params_t cp = params->coarse;
+    if (pass == 1u && se->known_motion) {
+        cp.window = params->coarse_window_wide;
+    } else if (pass == 1u) { /* nothing known: wider, coarser */
+        cp.window = params->coarse_window_first;
+        cp.step = params->coarse_step_first;
+    }
+    if (se->light) {
+        /* Under a budget: the candidate's rotation only, a lean sample,
+         * steps twice as coarse (the tracking registration after it
+         * converges from 0.3 m). */
+        cp.rotation_steps = 0u;
+        cp.sample_points = LIGHT_SAMPLE_POINTS;
+        cp.step = 2 * cp.step;
+        cp.fine_step = 2 * cp.fine_step;
+    }
+    return cp;
+}
+
 static void candidate_begin(ego_state_t *state)
 {
     ego_search_t *se = &state->search;
@@ -495,25 +520,9 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
         se->pass++;
     }
     if (se->pass < se->pass_end &&
-        !good_enough(params, se->candidate_status, &se->candidate, false) &&
-        !(se->with_coarse && confirms_prediction(params, se, &se->candidate))) {
-        ego_coarse_params_t cp = params->coarse;
-        if (se->pass == 1u && se->known_motion) {
-            cp.window = params->coarse_window_wide;
-        } else if (se->pass == 1u) { /* nothing known: wider, coarser */
-            cp.window = params->coarse_window_first;
-            cp.step = params->coarse_step_first;
-        }
-        if (se->light) {
-            /* Under a budget: the candidate's rotation only, a lean sample,
-             * steps twice as coarse (the tracking registration after it
-             * converges from 0.3 m). */
-            cp.rotation_steps = 0u;
-            cp.sample_points = LIGHT_SAMPLE_POINTS;
-            cp.step = 2 * cp.step;
-            cp.fine_step = 2 * cp.fine_step;
-        }
+        !good_enough(params, se->candidate_status, &se->candidate, false)) {
         const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
+        const ego_coarse_params_t cp = coarse_pass(se, params, se->pass);
         attempt_begin(state, &start, true, &cp);
         return;
     }
@@ -527,19 +536,62 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
         se->best_k = se->k;
     }
     se->k++;
-    if (se->with_coarse && confirms_prediction(params, se, &se->best)) {
-        se->stage = SEARCH_SWEEP;
-        se->step = ATTEMPT_DONE;
-        return;
-    }
-    /* Under a budget the first candidate good enough ends the search: its
-     * answer is due, and more candidates cost scans. */
-    if (se->k < se->n && !good_enough(params, se->best_status, &se->best, !se->light)) {
+    if (se->k < se->n && !good_enough(params, se->best_status, &se->best, true)) {
         candidate_begin(state);
         return;
     }
     se->stage = SEARCH_SWEEP;
     se->step = ATTEMPT_DONE;
+}
+
+/* Under a budget the answer is due: the attempts go breadth first,
+ * cheapest first, and the first good enough (or, after a coarse pass,
+ * confirming a trusted prediction) ends the search. Level 0: every
+ * rotation candidate tracked from the predicted translation; level 1 (with
+ * a prediction): the coarse search around it, for the first candidate;
+ * level 2: the wide window, for the first LIGHT_WIDE candidates. */
+#define LIGHT_WIDE 2u
+
+static uint8_t light_width(const ego_search_t *se)
+{
+    if (se->pass == 0u) {
+        return se->n;
+    }
+    const uint8_t wide = (se->pass == 1u) ? 1u : (uint8_t)LIGHT_WIDE;
+    return (se->n < wide) ? se->n : wide;
+}
+
+static void light_next(ego_state_t *state, const ego_params_t *params)
+{
+    ego_search_t *se = &state->search;
+    se->tried++;
+    if (better(se->attempt_status, &se->attempt, se->best_status, &se->best, 0)) {
+        se->best = se->attempt;
+        se->best_status = se->attempt_status;
+        se->best_k = se->k;
+    }
+    const bool done = good_enough(params, se->best_status, &se->best, false) ||
+                      (se->with_coarse && confirms_prediction(params, se, &se->best));
+    se->k++;
+    if (!done && se->k >= light_width(se)) {
+        se->k = 0u;
+        se->pass++;
+        if (se->pass == 1u && !se->have_prediction) {
+            se->pass++; /* nothing to search around */
+        }
+    }
+    if (done || se->pass > 2u || se->k >= se->n) {
+        se->stage = SEARCH_SWEEP;
+        se->step = ATTEMPT_DONE;
+        return;
+    }
+    if (se->pass == 0u) {
+        candidate_begin(state);
+        return;
+    }
+    const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
+    const ego_coarse_params_t cp = coarse_pass(se, params, (uint8_t)(se->pass - 1u));
+    attempt_begin(state, &start, true, &cp);
 }
 
 /* Works on the search until it is done (true) or the meter runs dry. */
@@ -587,7 +639,11 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             if (!attempt_run(state, params)) {
                 return false;
             }
-            candidate_next(state, params);
+            if (se->light) {
+                light_next(state, params);
+            } else {
+                candidate_next(state, params);
+            }
             break;
         case SEARCH_SWEEP:
             /* Last resort, without a prior: no candidate fits. The
@@ -705,11 +761,14 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     out->flags |= se->flags;
     out->candidates = se->tried;
     out->dt_us = se->dt_us;
-    /* The light search (under a budget) registers thinned scans: a best
-     * candidate that is not good enough is no answer there. */
+    /* The light search (under a budget) tries fewer starts: its best
+     * answers when it is good enough, confirms a trusted prediction, or
+     * converged with the balanced share tracking needs near a prediction. */
     const bool fits = !se->light || se->stage_tracked ||
                       good_enough(params, se->best_status, &se->best, false) ||
-                      confirms_prediction(params, se, &se->best);
+                      confirms_prediction(params, se, &se->best) ||
+                      (se->best.converged &&
+                       balanced_share(&se->best) >= params->accept_fraction / 2);
     const bool matched = fits && output_match(se->best_status, &se->best, se->have_prediction,
                                               &se->predicted, se->main_direction, out);
     if (matched) {
@@ -722,6 +781,7 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     if (recovered) {
         out->flags |= EGO_FLAG_RECOVERED;
     }
+    state->bridge = recovered && matched;
     out->points = state->slot[other_slot(state->last)].count;
     set_velocities(out);
     se->active = false;
@@ -750,6 +810,18 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
     }
     const uint64_t interval = time_us - state->previous_time_us;
     return params->work_per_scan + interval * params->work_per_s / US_PER_S;
+}
+
+/* Does this scan's budget pay for the full search (robust tangents, HTAH,
+ * ITCP's two stages, every coarse pass: up to some tens of millions of
+ * units on hard pairs) within a few scans? Below AMPLE_WORK (0.33 s of
+ * scan interval at the default rate) the light one runs: chord tangents,
+ * AH, tracking registrations, lean coarse passes. */
+#define AMPLE_WORK 10000000u
+
+static bool ample(const ego_state_t *state)
+{
+    return state->work.limit >= AMPLE_WORK;
 }
 
 /* Full passes tracking needs from a good prediction: its two coarse passes
@@ -789,7 +861,7 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     /* Unbounded, a plain fit per point (on noisy real data the chords sort
      * too many points into the wrong group); under a budget, the chords,
      * and only as many beams as the budget lets tracking register. */
-    const bool plain = params->work_per_s == 0u;
+    const bool plain = ample(state);
     const uint32_t tangent_cost = plain ? EGO_COST_TFIT_PLAIN : EGO_COST_TFIT_CHORD;
     const uint32_t per_point = EGO_COST_PREP_BEAM + tangent_cost + EGO_COST_AH_POINT;
     ego_prep_params_t prep = params->prep;
@@ -835,14 +907,14 @@ typedef enum { TRACK_FOUND, TRACK_UNFINISHED, TRACK_FAILED } track_outcome_t;
 /* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
  * then goes on with it first. */
 static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
-                             const ego_pose_t *predicted, bool have_prediction, uint32_t dt_us,
-                             ego_output_t *out)
+                             const ego_pose_t *start, const ego_pose_t *predicted,
+                             bool have_prediction, uint32_t dt_us, ego_output_t *out)
 {
     const ego_scan_t *last = &state->slot[state->last];
     const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
     STAGE(EGO_STAGE_REGISTER);
-    ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, predicted,
-                    true, &params->track);
+    ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, start, true,
+                    &params->track);
     const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
     if (!done) {
@@ -855,6 +927,30 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     }
     return output_match(st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
                                                                                  : TRACK_FAILED;
+}
+
+/* A heading change the prediction missed (a turn begins, a bump): the
+ * turn between the two scans' main directions (line directions: the
+ * alternative nearest the prediction) as a second start for tracking, with
+ * the predicted translation; false when it is within ONE_TURN_GUESS of the
+ * prediction (tracking started there already). */
+#define ONE_TURN_GUESS FX_BAM32_DEG_C(1.0)
+
+static bool turned_start(const ego_state_t *state, uint8_t cur, const ego_pose_t *predicted,
+                         ego_pose_t *start)
+{
+    const fx_bam32_t turn = ego_hist_main_direction(&state->hist[cur]) -
+                            ego_hist_main_direction(&state->hist[state->last]);
+    /* turn and turn + 180 deg describe the same lines. */
+    const int64_t a = fx_bam32_diff(turn, predicted->theta);
+    const int64_t b = fx_bam32_diff(turn + FX_BAM32_HALF, predicted->theta);
+    const int64_t off = ((a < 0 ? -a : a) <= (b < 0 ? -b : b)) ? a : b;
+    if ((off < 0 ? -off : off) < (int64_t)ONE_TURN_GUESS) {
+        return false;
+    }
+    *start = *predicted;
+    start->theta = predicted->theta + (fx_bam32_t)(uint32_t)off;
+    return true;
 }
 
 ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
@@ -890,6 +986,7 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->motion_dt_us = 0u;
     state->predictable = false;
     state->misses = 0u;
+    state->bridge = false;
 }
 
 /* The motion from the last scan to the prepared scan in slot cur, dt_us
@@ -902,7 +999,13 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
     const ego_scan_t *last = &state->slot[state->last];
     out->dt_us = dt;
     const ego_pose_t predicted = (prior != NULL) ? *prior : predict(state, dt);
-    const bool have_prediction = prior != NULL || (motion_known(state, dt) && state->predictable);
+    /* After a search that took several scans the interval spans them: the
+     * search's motion predicts it, tracked whatever its length. */
+    const bool after_search = state->bridge;
+    state->bridge = false;
+    const bool have_prediction = prior != NULL || after_search ||
+                                 (motion_known(state, dt) && state->predictable);
+    const bool may_track = dt <= TRACK_INTERVAL_US || after_search;
     if (current->count < params->min_points || last->count < params->min_points) {
         out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
         out->pose = predicted;
@@ -914,20 +1017,38 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
      * a prediction can be metres off, and a local registration from it can
      * settle in a wrong minimum that fits well; the search is safer.
      * Without a prediction tracking starts from no motion. */
-    const track_outcome_t tracked = (dt <= TRACK_INTERVAL_US)
-                                        ? track(state, params, cur, &predicted, have_prediction,
-                                                dt, out)
-                                        : TRACK_FAILED;
+    track_outcome_t tracked = may_track ? track(state, params, cur, &predicted, &predicted,
+                                                have_prediction, dt, out)
+                                          : TRACK_FAILED;
+    ego_pose_t turned;
+    if (tracked == TRACK_FAILED && may_track && turned_start(state, cur, &predicted, &turned)) {
+        tracked = track(state, params, cur, &turned, &predicted, have_prediction, dt, out);
+    }
     if (tracked == TRACK_FOUND) {
         set_velocities(out);
         advance(state, params, cur, time_us, out, true, true, &predicted, true);
+        return;
+    }
+    if (tracked == TRACK_FAILED && after_search && prior == NULL) {
+        /* Another search would span more scans still, and at speed the
+         * scans so far apart may not overlap: the prediction bridges the
+         * interval (flagged), and the next scan is tracked from this one. */
+        const uint16_t points = out->points;
+        memset(out, 0, sizeof *out);
+        out->points = points;
+        out->dt_us = dt;
+        out->flags = EGO_FLAG_PREDICTED;
+        out->pose = predicted;
+        set_velocities(out);
+        advance(state, params, cur, time_us, out, false, false, &predicted, false);
+        state->predictable = true;
         return;
     }
     const uint16_t points = out->points;
     memset(out, 0, sizeof *out);
     out->points = points;
     search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction,
-                 params->work_per_s != 0u);
+                 !ample(state));
     if (tracked == TRACK_UNFINISHED) {
         state->search.stage = SEARCH_TRACKING;
     }

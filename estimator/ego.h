@@ -174,6 +174,8 @@ typedef struct {
     uint32_t motion_dt_us;
     bool predictable;        /* it came out close to its own prediction */
     uint8_t misses;          /* searches in a row whose result the prediction missed */
+    bool bridge;             /* a search that took several scans just ended: the next
+                                interval is long, its prediction the search's motion */
     bool refined[2];         /* the slot has robust tangents and the search's histogram */
     bool have_previous;      /* the time of the previous scan, for the budget */
     uint32_t previous_time_us;
