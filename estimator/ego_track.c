@@ -136,7 +136,8 @@ static int64_t reach(const ego_track_run_t *run)
  * between them, both reach further? A current point there sits where the
  * last scan saw empty space, so the pose that put it there is wrong (or
  * the point moved). */
-EGO_NOINLINE static bool seen_through(const ego_track_run_t *run, uint16_t j, fx_q16_16_t qx, fx_q16_16_t qy)
+EGO_NOINLINE static bool seen_through(const ego_track_run_t *run, uint16_t j, fx_q16_16_t qx,
+                                      fx_q16_16_t qy, uint32_t *computed)
 {
     const ego_scan_t *l = run->last;
     if (j == 0u || j >= l->count || (l->flags[j - 1u] & EGO_LINK_GAP) != 0u) {
@@ -144,17 +145,20 @@ EGO_NOINLINE static bool seen_through(const ego_track_run_t *run, uint16_t j, fx
     }
     const int64_t ox = (int64_t)qx - l->origin_x;
     const int64_t oy = (int64_t)qy - l->origin_y;
-    const int64_t r = (int64_t)fx_sqrt_u64((uint64_t)(ox * ox + oy * oy)) +
-                      2 * (int64_t)run->params->inlier_distance;
-    const uint64_t r_sq = (uint64_t)(r * r);
-    for (uint16_t k = (uint16_t)(j - 1u); k <= j; k++) {
-        const int64_t bx = (int64_t)l->x[k] - l->origin_x;
-        const int64_t by = (int64_t)l->y[k] - l->origin_y;
-        if ((uint64_t)(bx * bx + by * by) <= r_sq) {
-            return false;
+    const uint64_t o_sq = (uint64_t)(ox * ox + oy * oy);
+    uint64_t beam_sq[2];
+    for (uint16_t k = 0u; k < 2u; k++) {
+        const int64_t bx = (int64_t)l->x[j - 1u + k] - l->origin_x;
+        const int64_t by = (int64_t)l->y[j - 1u + k] - l->origin_y;
+        beam_sq[k] = (uint64_t)(bx * bx + by * by);
+        if (beam_sq[k] <= o_sq) {
+            return false; /* a beam no longer than the point: no root needed */
         }
     }
-    return true;
+    (*computed)++;
+    const int64_t r = (int64_t)fx_sqrt_u64(o_sq) + 2 * (int64_t)run->params->inlier_distance;
+    const uint64_t r_sq = (uint64_t)(r * r);
+    return beam_sq[0] > r_sq && beam_sq[1] > r_sq;
 }
 
 /* A point's distance to one segment of the last scan. */
@@ -278,7 +282,7 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
         (*fits)++;
     }
     if (!best.ok) {
-        if (seen_through(run, j, qx, qy)) {
+        if (seen_through(run, j, qx, qy, normals)) {
             g->seen_through++; /* in space the last scan saw empty */
         }
         return;

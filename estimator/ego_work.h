@@ -39,7 +39,8 @@ typedef struct {
 #define EGO_COST_MATCH_SEGMENT 460u      /* ... plus per segment distance computed */
 #define EGO_COST_TRACK_POINT 440u        /* tracking (ego_track.c): one point matched ... */
 #define EGO_COST_TRACK_FIT 90u          /* ... plus per segment tried ... */
-#define EGO_COST_TRACK_NORMAL 300u       /* ... plus per segment normal computed (once a run) */
+#define EGO_COST_TRACK_NORMAL 300u       /* ... plus per square root taken (a segment's normal,
+                                            once a run; a free-space test) */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_SCAN 30000u             /* per scan: bookkeeping, choosing, the output */
 
