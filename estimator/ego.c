@@ -561,6 +561,16 @@ static uint8_t light_width(const ego_search_t *se)
     return (se->n < wide) ? se->n : wide;
 }
 
+/* The rotation candidate of attempt k of the level: in the wide window the
+ * histogram's best first (a jump the prediction missed is what it is
+ * for), then the prediction's. */
+static uint8_t light_candidate(const ego_search_t *se)
+{
+    const bool swap = se->pass == 2u && se->n > 1u && se->k < 2u &&
+                      (se->have_prior || se->have_prediction);
+    return swap ? (uint8_t)(1u - se->k) : se->k;
+}
+
 static void light_next(ego_state_t *state, const ego_params_t *params)
 {
     ego_search_t *se = &state->search;
@@ -568,7 +578,7 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
     if (better(se->attempt_status, &se->attempt, se->best_status, &se->best, 0)) {
         se->best = se->attempt;
         se->best_status = se->attempt_status;
-        se->best_k = se->k;
+        se->best_k = light_candidate(se);
     }
     const bool done = good_enough(params, se->best_status, &se->best, false) ||
                       (se->with_coarse && confirms_prediction(params, se, &se->best));
@@ -589,7 +599,8 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
         candidate_begin(state);
         return;
     }
-    const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
+    const ego_pose_t start = {se->rotation[light_candidate(se)], se->predicted.x,
+                              se->predicted.y};
     const ego_coarse_params_t cp = coarse_pass(se, params, (uint8_t)(se->pass - 1u));
     attempt_begin(state, &start, true, &cp);
 }

@@ -411,26 +411,28 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
                        abs64(dy) < params->converge_translation &&
                        abs64(turn) < (int64_t)params->converge_rotation;
     const bool full = run->stride == 1u;
+    /* Settled: a full pass whose step was under SETTLED times the
+     * thresholds (the steps shrink geometrically: the pose is then within
+     * about that of the end; associations that flip between passes keep a
+     * step of a millimetre from ever being still). */
+    const bool settled = full && run->iteration > 1u &&
+                         abs64(dx) < SETTLED * params->converge_translation &&
+                         abs64(dy) < SETTLED * params->converge_translation &&
+                         abs64(turn) < SETTLED * (int64_t)params->converge_rotation;
     if ((still && full && run->iteration > 1u) || run->iteration >= params->max_iterations) {
-        run->converged = still;
+        run->converged = still || settled;
         run->finished = true;
         return;
     }
     /* 0.3 m, then a third of it each pass down to the radius. */
     run->radius = (run->radius / 3 > params->radius) ? run->radius / 3 : params->radius;
     /* Until the budget: a meter that cannot pay for another pass ends the
-     * run here, with the statistics of this one: converged when it was a
-     * full pass whose step was under SETTLED times the convergence
-     * thresholds (the steps shrink geometrically: the pose is then within
-     * about that of the end). */
+     * run here, with the statistics of this one, converged when settled. */
     run->stride = pass_stride(run);
     const uint32_t next_points = (run->current->count + run->stride - 1u) / run->stride;
     if (run->until_budget &&
         !ego_work_allows(work, next_points * EGO_TRACK_TYPICAL_POINT + EGO_COST_SOLVE)) {
-        run->converged = full && run->iteration > 1u &&
-                         abs64(dx) < SETTLED * params->converge_translation &&
-                         abs64(dy) < SETTLED * params->converge_translation &&
-                         abs64(turn) < SETTLED * (int64_t)params->converge_rotation;
+        run->converged = settled;
         run->finished = true;
         return;
     }
