@@ -22,6 +22,8 @@ void ego_live_defaults(ego_live_config_t *config)
     memset(config, 0, sizeof *config);
     lms_session_defaults(&config->session);
     ego_loop_defaults(&config->loop);
+    /* Live, a line is due before the next scan: the sensor-rate budget. */
+    ego_budget_defaults(&config->loop.ego);
 }
 
 /* --- Scan times ------------------------------------------------------- */

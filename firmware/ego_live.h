@@ -84,7 +84,8 @@ typedef struct {
 } ego_live_config_t;
 
 /* Session defaults (500 kbaud, scanner's variant and units kept), loop
- * defaults (CSV), no scan limit. */
+ * defaults (CSV), no scan limit, the estimator within its sensor-rate
+ * budget (ego_budget_defaults): a line is due before the next scan. */
 void ego_live_defaults(ego_live_config_t *config);
 
 /* Scan times (see above); private to the core. */
