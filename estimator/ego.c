@@ -269,8 +269,8 @@ static uint8_t other_slot(uint8_t slot)
 /* An attempt: [the coarse search from start, then] ITCP with the rotation
  * held, then with it solved as well (the paper's two stages); under a
  * budget the tracking registration instead. */
-static void attempt_begin(ego_state_t *state, const ego_pose_t *start, bool with_coarse,
-                          const ego_coarse_params_t *cp)
+static void attempt_begin(ego_state_t *state, const ego_params_t *params,
+                          const ego_pose_t *start, bool with_coarse, const ego_coarse_params_t *cp)
 {
     ego_search_t *se = &state->search;
     const ego_scan_t *last = &state->slot[state->last];
@@ -280,6 +280,10 @@ static void attempt_begin(ego_state_t *state, const ego_pose_t *start, bool with
     if (with_coarse) {
         se->cp = *cp;
         ego_coarse_start(&se->coarse, last, cur, se->main_direction, start, &se->cp);
+        if (se->light) {
+            /* The tracking run is free until the coarse search ends. */
+            ego_coarse_along_bearing(&se->coarse, &state->tracking, &params->track);
+        }
         se->step = ATTEMPT_COARSE;
     } else {
         se->step = se->light ? ATTEMPT_TRACK : ATTEMPT_HELD;
@@ -483,11 +487,11 @@ static ego_coarse_params_t coarse_pass(const ego_search_t *se, const ego_params_
     return cp;
 }
 
-static void candidate_begin(ego_state_t *state)
+static void candidate_begin(ego_state_t *state, const ego_params_t *params)
 {
     ego_search_t *se = &state->search;
     const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
-    attempt_begin(state, &start, false, NULL);
+    attempt_begin(state, params, &start, false, NULL);
 }
 
 /* Under a budget: does a registration after a coarse pass confirm a
@@ -523,7 +527,7 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
         !good_enough(params, se->candidate_status, &se->candidate, false)) {
         const ego_pose_t start = {se->rotation[se->k], se->predicted.x, se->predicted.y};
         const ego_coarse_params_t cp = coarse_pass(se, params, se->pass);
-        attempt_begin(state, &start, true, &cp);
+        attempt_begin(state, params, &start, true, &cp);
         return;
     }
     se->tried++;
@@ -537,7 +541,7 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
     }
     se->k++;
     if (se->k < se->n && !good_enough(params, se->best_status, &se->best, true)) {
-        candidate_begin(state);
+        candidate_begin(state, params);
         return;
     }
     se->stage = SEARCH_SWEEP;
@@ -549,7 +553,8 @@ static void candidate_next(ego_state_t *state, const ego_params_t *params)
  * confirming a trusted prediction) ends the search. Level 0: every
  * rotation candidate tracked from the predicted translation; level 1 (with
  * a prediction): the coarse search around it, for the first candidate;
- * level 2: the wide window, for the first LIGHT_WIDE candidates. */
+ * level 2: the wide window, for the first LIGHT_WIDE candidates. A coarse
+ * pass that lands back on the best so far also ends it. */
 #define LIGHT_WIDE 2u
 
 static uint8_t light_width(const ego_search_t *se)
@@ -575,12 +580,18 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
 {
     ego_search_t *se = &state->search;
     se->tried++;
+    /* A coarse pass that lands back on the best registration so far (both
+     * converged, within the prediction's trust distance of each other):
+     * two independent starts agree. */
+    const bool agrees = se->with_coarse && se->best_status == EGO_ITCP_OK &&
+                        se->attempt_status == EGO_ITCP_OK && se->best.converged &&
+                        se->attempt.converged && close_to(&se->attempt.pose, &se->best.pose, params);
     if (better(se->attempt_status, &se->attempt, se->best_status, &se->best, 0)) {
         se->best = se->attempt;
         se->best_status = se->attempt_status;
         se->best_k = light_candidate(se);
     }
-    const bool done = good_enough(params, se->best_status, &se->best, false) ||
+    const bool done = good_enough(params, se->best_status, &se->best, false) || agrees ||
                       (se->with_coarse && confirms_prediction(params, se, &se->best));
     se->k++;
     if (!done && se->k >= light_width(se)) {
@@ -596,13 +607,13 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
         return;
     }
     if (se->pass == 0u) {
-        candidate_begin(state);
+        candidate_begin(state, params);
         return;
     }
     const ego_pose_t start = {se->rotation[light_candidate(se)], se->predicted.x,
                               se->predicted.y};
     const ego_coarse_params_t cp = coarse_pass(se, params, (uint8_t)(se->pass - 1u));
-    attempt_begin(state, &start, true, &cp);
+    attempt_begin(state, params, &start, true, &cp);
 }
 
 /* Works on the search until it is done (true) or the meter runs dry. */
@@ -644,7 +655,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             }
             se->stage = SEARCH_CANDIDATES;
             se->k = 0u;
-            candidate_begin(state);
+            candidate_begin(state, params);
             break;
         case SEARCH_CANDIDATES:
             if (!attempt_run(state, params)) {
@@ -672,7 +683,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 cp.step = params->coarse_step_first;
                 cp.rotation_steps = params->sweep_steps;
                 cp.rotation_step = params->sweep_step;
-                attempt_begin(state, &se->predicted, true, &cp);
+                attempt_begin(state, params, &se->predicted, true, &cp);
             }
             if (!attempt_run(state, params)) {
                 return false;
@@ -774,12 +785,12 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     out->dt_us = se->dt_us;
     /* The light search (under a budget) tries fewer starts: its best
      * answers when it is good enough, confirms a trusted prediction, or
-     * converged with the balanced share tracking needs near a prediction. */
+     * has the balanced share tracking needs near a prediction (flagged
+     * EGO_FLAG_NOT_CONVERGED when it did not converge). */
     const bool fits = !se->light || se->stage_tracked ||
                       good_enough(params, se->best_status, &se->best, false) ||
                       confirms_prediction(params, se, &se->best) ||
-                      (se->best.converged &&
-                       balanced_share(&se->best) >= params->accept_fraction / 2);
+                      balanced_share(&se->best) >= params->accept_fraction / 2;
     const bool matched = fits && output_match(se->best_status, &se->best, se->have_prediction,
                                               &se->predicted, se->main_direction, out);
     if (matched) {

@@ -6,10 +6,12 @@
  * limit is the scan interval times work_per_s:
  *  1. prepare the points (ego_scan.h), a chord tangent per point
  *     (ego_tfit.h) and the AH histogram, for the main direction;
- *  2. track: when the motion is predictable (a prior, or a last motion that
- *     came out close to its own prediction), ITCP from the prediction
- *     (params.track). Converged with at least accept_fraction of each group
- *     as inliers: done, that is the motion;
+ *  2. track (ego_track.h) from the prediction (a prior, or the last motion
+ *     scaled) over scans at most 0.2 s apart: it stands when converged with
+ *     at least accept_fraction of each group as inliers, or close to a
+ *     trusted prediction with half that share over both groups. A failed
+ *     tracking is tried once more from the turn between the two scans' main
+ *     directions;
  *  3. otherwise search, anytime, against the last scan: robust tangents
  *     and HTAH for both scans, the histogram correlation's rotation
  *     candidates, for each candidate ITCP with the rotation held then free
@@ -28,8 +30,11 @@
  *     EGO_FLAG_RECOVERING). When it ends, the output is the motion from
  *     the last trusted scan to the scan the search started from (flag
  *     EGO_FLAG_RECOVERED, dt_us the time between them), and the next scan
- *     is tracked against that one: summed, the poses leave no hole. A
- *     search still running after max_search_scans starts over.
+ *     is tracked against that one (over the long interval, from the
+ *     search's motion; when that fails, the prediction bridges it, flag
+ *     EGO_FLAG_PREDICTED): summed, the poses leave no hole. A search still
+ *     running after max_search_scans starts over. Under a small budget the
+ *     search is light (ego.c, docs/estimator.md "The work budget").
  * A scan whose preparation does not fit its budget is skipped in the same
  * way (EGO_FLAG_RECOVERING, no motion; the next motion spans it).
  *

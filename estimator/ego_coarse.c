@@ -158,6 +158,9 @@ static void score_begin(ego_coarse_run_t *r, const ego_pose_t *pose, fx_q16_16_t
     sc->must_beat = must_beat;
     sc->ties_win = ties_win;
     ego_itcp_prober_init(&sc->prober, r->last, sigma, 2 * sigma);
+    if (r->along != NULL) {
+        ego_track_probe_sigma(r->along, sigma);
+    }
     memset(sc->tally, 0, sizeof sc->tally);
     sc->group = 0u;
     sc->next = 0u;
@@ -179,7 +182,8 @@ static bool score_points(ego_coarse_run_t *r, ego_work_t *work)
             sc->next = 0u;
             continue;
         }
-        if (!ego_work_allows(work, COST_PROBE_MAX)) {
+        if (!ego_work_allows(work, (r->along != NULL) ? EGO_TRACK_PROBE_MAX + COST_SCORE_POINT
+                                                      : COST_PROBE_MAX)) {
             return false;
         }
         const uint16_t i = s->index[g][sc->next];
@@ -187,8 +191,14 @@ static bool score_points(ego_coarse_run_t *r, ego_work_t *work)
         fx_q16_16_t qy;
         ego_pose_apply(&sc->pose, sc->sn, sc->cs, r->current->x[i], r->current->y[i], &qx, &qy);
         uint64_t d2 = 0u;
-        const ego_itcp_probe_t found = ego_itcp_probe(&sc->prober, qx, qy, &d2);
-        ego_work_spend(work, ego_itcp_prober_take_units(&sc->prober) + COST_SCORE_POINT);
+        uint32_t units = 0u;
+        const ego_itcp_probe_t found = (r->along != NULL)
+                                           ? ego_track_probe(r->along, qx, qy, &d2, &units)
+                                           : ego_itcp_probe(&sc->prober, qx, qy, &d2);
+        if (r->along == NULL) {
+            units = ego_itcp_prober_take_units(&sc->prober);
+        }
+        ego_work_spend(work, units + COST_SCORE_POINT);
         if (found == EGO_ITCP_PROBE_SURFACE) {
             t[g].score += (sc->sigma_sq - d2) >> 16;
         } else if (found == EGO_ITCP_PROBE_SEEN_THROUGH) {
@@ -331,6 +341,15 @@ void ego_coarse_start(ego_coarse_run_t *r, const ego_scan_t *last, const ego_sca
     r->score = 0u;
     r->rotation = -(int32_t)params->rotation_steps;
     r->phase = (last == NULL || current == NULL || last->count < 2u) ? PHASE_DONE : PHASE_SAMPLE;
+}
+
+void ego_coarse_along_bearing(ego_coarse_run_t *r, ego_track_run_t *prober,
+                              const ego_track_params_t *params)
+{
+    if (r->last != NULL) {
+        ego_track_probe_start(prober, r->last, 0, params);
+        r->along = prober;
+    }
 }
 
 bool ego_coarse_step(ego_coarse_run_t *r, ego_work_t *work)

@@ -33,6 +33,7 @@
 #include "ego_itcp.h"
 #include "ego_pose.h"
 #include "ego_scan.h"
+#include "ego_track.h"
 #include "ego_work.h"
 
 /* Largest sample; the defaults use 48 (24 under a budget). */
@@ -109,12 +110,20 @@ typedef struct {
     ego_coarse_sample_t sample;
     ego_coarse_score_t scoring;
     ego_coarse_grid_t grid;
+    ego_track_run_t *along; /* probes along the bearing (or NULL: ITCP's) */
 } ego_coarse_run_t;
 
 void ego_coarse_start(ego_coarse_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
                       fx_bam32_t main_direction, const ego_pose_t *centre,
                       const ego_coarse_params_t *params);
 bool ego_coarse_step(ego_coarse_run_t *run, ego_work_t *work);
+
+/* After ego_coarse_start: score with tracking's probe along the bearing
+ * (ego_track_probe, about a third of the work of ITCP's, which searches
+ * every surface within sigma), its normals cached in `prober`, which must
+ * stay untouched until the run is finished. */
+void ego_coarse_along_bearing(ego_coarse_run_t *run, ego_track_run_t *prober,
+                              const ego_track_params_t *params);
 void ego_coarse_result(const ego_coarse_run_t *run, ego_pose_t *best, uint64_t *score);
 
 /* Searches around *centre; *best gets the best pose, *score its score

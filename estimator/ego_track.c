@@ -137,7 +137,7 @@ static int64_t reach(const ego_track_run_t *run)
  * last scan saw empty space, so the pose that put it there is wrong (or
  * the point moved). */
 EGO_NOINLINE static bool seen_through(const ego_track_run_t *run, uint16_t j, fx_q16_16_t qx,
-                                      fx_q16_16_t qy, uint32_t *computed)
+                                      fx_q16_16_t qy, fx_q16_16_t margin, uint32_t *computed)
 {
     const ego_scan_t *l = run->last;
     if (j == 0u || j >= l->count || (l->flags[j - 1u] & EGO_LINK_GAP) != 0u) {
@@ -156,7 +156,7 @@ EGO_NOINLINE static bool seen_through(const ego_track_run_t *run, uint16_t j, fx
         }
     }
     (*computed)++;
-    const int64_t r = (int64_t)fx_sqrt_u64(o_sq) + 2 * (int64_t)run->params->inlier_distance;
+    const int64_t r = (int64_t)fx_sqrt_u64(o_sq) + margin;
     const uint64_t r_sq = (uint64_t)(r * r);
     return beam_sq[0] > r_sq && beam_sq[1] > r_sq;
 }
@@ -282,7 +282,7 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
         (*fits)++;
     }
     if (!best.ok) {
-        if (seen_through(run, j, qx, qy, normals)) {
+        if (seen_through(run, j, qx, qy, 2 * params->inlier_distance, normals)) {
             g->seen_through++; /* in space the last scan saw empty */
         }
         return;
@@ -503,4 +503,80 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
                        ((int64_t)g[1].n << 30) < (int64_t)run->params->aperture_ratio * g[0].n;
     return (run->failed || n < (int64_t)run->params->min_matches) ? EGO_ITCP_ERR_FEW_MATCHES
                                                                   : EGO_ITCP_OK;
+}
+
+/* The index a relative bearing would have in the last scan were its
+ * points evenly spread between its first and last bearing (32-bit: the
+ * spread cut to 16 bits, the index below 2^14). */
+static uint16_t even_guess(const ego_track_run_t *run, int64_t rel)
+{
+    const uint16_t n = run->last->count;
+    const int64_t first = rel_bearing(run, 0u);
+    const int64_t spread = rel_bearing(run, (uint16_t)(n - 1u)) - first;
+    if (spread <= 0 || rel <= first) {
+        return 0u;
+    }
+    if (rel - first >= spread) {
+        return (uint16_t)(n - 1u);
+    }
+    const uint32_t at = (uint32_t)((rel - first) >> 16);
+    const uint32_t all = (uint32_t)(spread >> 16);
+    return (all == 0u) ? 0u : (uint16_t)((at * (uint32_t)(n - 1u)) / all);
+}
+
+void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last, fx_q16_16_t sigma,
+                           const ego_track_params_t *params)
+{
+    memset(run, 0, sizeof *run);
+    run->last = last;
+    run->params = params;
+    run->radius = sigma;
+    run->finished = true; /* no registration */
+    if (last->count > 0u) {
+        run->ref = last->bearing[0] + (last->bearing[last->count - 1u] - last->bearing[0]) / 2u;
+        run->hint = (uint16_t)(last->count / 2u);
+    }
+}
+
+ego_itcp_probe_t ego_track_probe(ego_track_run_t *run, fx_q16_16_t qx, fx_q16_16_t qy,
+                                 uint64_t *dist_sq, uint32_t *units)
+{
+    const ego_scan_t *l = run->last;
+    uint32_t steps = 0u;
+    uint32_t fits = 0u;
+    uint32_t normals = 0u;
+    ego_itcp_probe_t found = EGO_ITCP_PROBE_NOTHING;
+    *dist_sq = 0u;
+    if (l->count >= 2u && abs64(qx) < FAR_LIMIT && abs64(qy) < FAR_LIMIT) {
+        const int64_t rel = fx_bam32_diff(
+            fx_atan2_quick((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
+        /* The probes of a coarse search jump about the scan: start the walk
+         * where the bearing falls if the beams were evenly spread. */
+        run->hint = even_guess(run, rel);
+        const uint16_t j = locate(run, rel, &steps);
+        int64_t best = -1;
+        for (int32_t k = 0; k < 3 && (k == 0 || best < 0); k++) {
+            const int32_t a = (k == 0) ? (int32_t)j - 1 : (k == 1) ? (int32_t)j - 2 : (int32_t)j;
+            segment_fit_t f;
+            if (a >= 0 && fit_segment(run, (uint16_t)a, qx, qy, &f, &normals) &&
+                (best < 0 || abs64(f.d) < best)) {
+                best = abs64(f.d);
+            }
+            fits++;
+        }
+        if (best >= 0 && best < run->radius) {
+            *dist_sq = (uint64_t)(best * best);
+            found = EGO_ITCP_PROBE_SURFACE;
+        } else if (seen_through(run, j, qx, qy, 2 * run->radius, &normals)) {
+            found = EGO_ITCP_PROBE_SEEN_THROUGH;
+        }
+    }
+    *units = EGO_COST_TRACK_PROBE + steps * EGO_COST_MATCH_STEP + fits * EGO_COST_TRACK_FIT +
+             normals * EGO_COST_TRACK_NORMAL;
+    return found;
+}
+
+void ego_track_probe_sigma(ego_track_run_t *run, fx_q16_16_t sigma)
+{
+    run->radius = sigma;
 }

@@ -116,4 +116,26 @@ bool ego_track_step(ego_track_run_t *run, ego_work_t *work);
  * matches, or the equations were singular; the pose is then the last). */
 ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result);
 
+/* The coarse search's probe along the bearing (ego_coarse.h), matched as
+ * tracking matches a point: the last scan's segments at the bearing of
+ * (qx, qy) from its origin and their neighbours, the distance to their
+ * lines by the run's cached normals. A surface closer than sigma:
+ * EGO_ITCP_PROBE_SURFACE, *dist_sq its square (Q32.32); none, and the last
+ * scan's beams on both sides reach 2 sigma beyond the point:
+ * EGO_ITCP_PROBE_SEEN_THROUGH. About a third of the work of ITCP's probe
+ * (which searches every surface within sigma); *units is this probe's, at
+ * most EGO_TRACK_PROBE_MAX. A run started with ego_track_probe_start
+ * serves any number of probes against one last scan (it registers
+ * nothing). */
+#define EGO_TRACK_PROBE_MAX                                                                 \
+    (EGO_COST_TRACK_PROBE + 32u * EGO_COST_MATCH_STEP +                                     \
+     3u * (EGO_COST_TRACK_FIT + EGO_COST_TRACK_NORMAL) + EGO_COST_TRACK_NORMAL)
+
+void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last, fx_q16_16_t sigma,
+                           const ego_track_params_t *params);
+ego_itcp_probe_t ego_track_probe(ego_track_run_t *run, fx_q16_16_t qx, fx_q16_16_t qy,
+                                 uint64_t *dist_sq, uint32_t *units);
+/* The sigma of the next probes (the normals stay cached). */
+void ego_track_probe_sigma(ego_track_run_t *run, fx_q16_16_t sigma);
+
 #endif /* EGO_TRACK_H */

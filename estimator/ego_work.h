@@ -41,6 +41,8 @@ typedef struct {
 #define EGO_COST_TRACK_FIT 90u          /* ... plus per segment tried ... */
 #define EGO_COST_TRACK_NORMAL 300u       /* ... plus per square root taken (a segment's normal,
                                             once a run; a free-space test) */
+#define EGO_COST_TRACK_PROBE 220u        /* a coarse probe along the bearing, beyond its walk,
+                                            segments and roots (ego_track_probe) */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_SCAN 30000u             /* per scan: bookkeeping, choosing, the output */
 

@@ -71,6 +71,50 @@ static void test_coarse_search_finds_a_large_translation(void)
     TEST_ASSERT_TRUE(fx_q16_16_to_double(best.x) < 0.7);
 }
 
+/* The light search's coarse search scored along the bearing (tracking's
+ * probe) against ITCP's: the same cell, for a third of the work or less. */
+static void test_coarse_search_along_the_bearing(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(1.3, -0.9, 0.0, &g_current);
+    ego_coarse_params_t p; /* the light search's wide window (ego.c) */
+    ego_coarse_defaults(&p);
+    p.window = FX_Q16_16_C(1.6);
+    p.step = FX_Q16_16_C(0.4);
+    p.fine_step = FX_Q16_16_C(0.1);
+    p.rotation_steps = 0u;
+    p.sample_points = 24u;
+    ego_track_params_t tp;
+    ego_track_defaults(&tp);
+    const ego_pose_t centre = {0u, 0, 0};
+    uint64_t spent[2] = {0u, 0u};
+    ego_pose_t best[2];
+    for (unsigned along = 0u; along < 2u; along++) {
+        static ego_coarse_run_t run;
+        static ego_track_run_t prober;
+        ego_coarse_start(&run, &g_last, &g_current, 0u, &centre, &p);
+        if (along != 0u) {
+            ego_coarse_along_bearing(&run, &prober, &tp);
+        }
+        ego_work_t work;
+        ego_work_start(&work, EGO_WORK_UNLIMITED);
+        TEST_ASSERT_TRUE(ego_coarse_step(&run, &work));
+        uint64_t score = 0u;
+        ego_coarse_result(&run, &best[along], &score);
+        TEST_ASSERT_TRUE(score > 0u);
+        spent[along] = work.used;
+    }
+    char msg[128];
+    (void)snprintf(msg, sizeof msg, "found (%.3f, %.3f, %.3f deg), work %llu against %llu",
+                   fx_q16_16_to_double(best[1].x), fx_q16_16_to_double(best[1].y),
+                   rad_of(best[1].theta) * 180.0 / FX_HOST_PI, (unsigned long long)spent[1],
+                   (unsigned long long)spent[0]);
+    /* The fine grid is 10 cm: within a cell of the truth. */
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best[1].x) - 1.3) <= 0.11, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best[1].y) + 0.9) <= 0.11, msg);
+    TEST_ASSERT_TRUE_MESSAGE(3u * spent[1] <= spent[0], msg);
+}
+
 static void test_coarse_search_corrects_a_small_rotation(void)
 {
     prepared(0.0, 0.0, 0.0, &g_last);
@@ -415,6 +459,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_coarse_search_finds_a_large_translation);
+    RUN_TEST(test_coarse_search_along_the_bearing);
     RUN_TEST(test_coarse_search_corrects_a_small_rotation);
     RUN_TEST(test_coarse_search_without_points_keeps_the_centre);
     RUN_TEST(test_ego_first_scan_then_motion_and_velocities);
