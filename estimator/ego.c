@@ -591,8 +591,11 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
         se->best_status = se->attempt_status;
         se->best_k = light_candidate(se);
     }
+    /* After a coarse pass, a best with the accept share over both groups
+     * is enough: more candidates cost scans. */
     const bool done = good_enough(params, se->best_status, &se->best, false) || agrees ||
-                      (se->with_coarse && confirms_prediction(params, se, &se->best));
+                      (se->with_coarse && (confirms_prediction(params, se, &se->best) ||
+                                           balanced_share(&se->best) >= params->accept_fraction));
     se->k++;
     if (!done && se->k >= light_width(se)) {
         se->k = 0u;
@@ -725,7 +728,8 @@ static void search_begin(ego_state_t *state, uint32_t time_us, uint32_t dt,
 /* ---- The output. ---- */
 
 /* The output of a registration r (status st) from the prediction. */
-static bool output_match(ego_itcp_status_t st, const ego_itcp_result_t *r, bool have_prediction,
+static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
+                         const ego_itcp_result_t *r, bool have_prediction,
                          const ego_pose_t *predicted, fx_bam32_t main_direction,
                          ego_output_t *out)
 {
@@ -743,9 +747,12 @@ static bool output_match(ego_itcp_status_t st, const ego_itcp_result_t *r, bool 
         /* Along a corridor the scans cannot tell how far the vehicle
          * went: keep the measured motion across the main direction and
          * take the predicted one along it, if there is a prediction worth
-         * the name (else the match's own guess). */
+         * the name: one the measured turn agrees with (a turn the
+         * prediction missed by more than its trust says it missed the
+         * rest too; else the match's own guess, flagged either way). */
         out->flags |= EGO_FLAG_APERTURE;
-        if (have_prediction) {
+        const int64_t turn_off = fx_bam32_diff(r->pose.theta, predicted->theta);
+        if (have_prediction && (turn_off < 0 ? -turn_off : turn_off) <= (int64_t)params->trust_rotation) {
             keep_prediction_along(&out->pose, predicted, main_direction);
         }
     }
@@ -791,7 +798,7 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
                       good_enough(params, se->best_status, &se->best, false) ||
                       confirms_prediction(params, se, &se->best) ||
                       balanced_share(&se->best) >= params->accept_fraction / 2;
-    const bool matched = fits && output_match(se->best_status, &se->best, se->have_prediction,
+    const bool matched = fits && output_match(params, se->best_status, &se->best, se->have_prediction,
                                               &se->predicted, se->main_direction, out);
     if (matched) {
         out->correlation = se->correlation[se->best_k];
@@ -947,7 +954,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     if (!tracking_stands(params, st, &r, predicted, have_prediction, dt_us)) {
         return TRACK_FAILED;
     }
-    return output_match(st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
+    return output_match(params, st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
                                                                                  : TRACK_FAILED;
 }
 
