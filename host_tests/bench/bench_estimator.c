@@ -1,9 +1,11 @@
 /* bench_estimator.c - cost of the estimator per scan on the host.
  *
- *   bench_estimator [--icp] [--mode HEX] [--once] [--budget none|default|U] [--trace] STREAM
+ *   bench_estimator [--icp] [--mode HEX] [--once] [--budget none|default|U] [--period S]
+ *                   [--trace] STREAM
  *
  * Decodes every B0 scan of a recorded stream into memory first, then runs
- * ego_process over them in order (scan k at k times the LMS mode's period),
+ * ego_process over them in order (scan k at k times the LMS mode's period,
+ * or --period seconds: keyframe logs),
  * timing each call with clock_gettime(CLOCK_MONOTONIC). Prints the number
  * of scans, the median and maximum time per scan, and the mean ITCP
  * iterations, and the work units (ego_work.h) per scan: median, maximum,
@@ -33,6 +35,7 @@ static ego_state_t state;
 static ego_lms_params_t lms;
 static lms_scan_t work; /* the adapter turns its values into ranges in place */
 static ego_range_scan_t range;
+static uint32_t period_us; /* 0: the LMS mode's */
 
 
 static int cmp_double(const void *a, const void *b)
@@ -59,7 +62,7 @@ __attribute__((noinline)) static unsigned long bench_process_all(const ego_param
         }
         work = scans[k];
         if (ego_lms_to_range(&work, &lms, &range) == EGO_LMS_OK) {
-            (void)ego_process(&state, p, &range, (uint32_t)k * lms_scan_period_us(scans[k].count),
+            (void)ego_process(&state, p, &range, (uint32_t)k * ((period_us != 0u) ? period_us : lms_scan_period_us(scans[k].count)),
                               &out);
         } else {
             memset(&out, 0, sizeof out);
@@ -105,6 +108,8 @@ int main(int argc, char **argv)
                     params.work_per_s = (uint32_t)strtoul(argv[i], NULL, 10);
                 }
             }
+        } else if (strcmp(argv[i], "--period") == 0 && i + 1 < argc) {
+            period_us = (uint32_t)(strtod(argv[++i], NULL) * 1e6 + 0.5);
         } else if (strcmp(argv[i], "--once") == 0) {
             once = 1;
         } else if (strcmp(argv[i], "--mode") == 0 && i + 1 < argc) {
