@@ -123,6 +123,23 @@ static void buf_long(buf_t *b, long value)
     buf_text(b, text);
 }
 
+/* Issue 15's hard scans (the estimator must keep its budget and say what it
+ * could not measure): ADVERSARIAL_SCANS of each kind in turn. */
+enum {
+    ADV_ALL_INVALID = 0,
+    ADV_ONE_POINT,
+    ADV_TWO_POINTS,
+    ADV_STRAIGHT_WALL,
+    ADV_ONE_RANGE,
+    ADV_ZIGZAG_AT_LIMIT,
+    ADV_ALL_AT_MAX,
+    ADV_SPECIALS,
+    ADV_ROOM_REPEATED,
+    ADV_MIRRORED,
+    ADVERSARIAL_KINDS
+};
+#define ADVERSARIAL_SCANS 8u
+
 /* ------------------------------------------------------------------ */
 /* Options. */
 
@@ -132,6 +149,7 @@ typedef struct {
     unsigned values; /* 181, 361 or 401 */
     lms_unit_t unit;
     bool faults;
+    bool adversarial; /* issue 15's hard scans instead of the room */
     bool verbose;
     const char *out_path;
     const char *truth_path;
@@ -149,6 +167,12 @@ static void print_usage(FILE *to)
         "  --values N          181 / 361: 180 deg at 1 / 0.5 deg; 401: 100 deg at 0.25 deg\n"
         "  --unit mm|cm        value unit (default mm)\n"
         "  --faults            inject garbage, a CRC error, a bad length, truncations\n"
+        "  --adversarial       instead of the room, ADVERSARIAL_SCANS scans of each hard case\n"
+        "                      in turn: every value invalid, one valid point, two, a straight\n"
+        "                      wall, all at one range, a zig-zag at the range limit, all at\n"
+        "                      maximum range, special values alternating, one room scan\n"
+        "                      repeated, a room and its mirror image alternating (--scans\n"
+        "                      is then ignored)\n"
         "  --verbose           describe the faults and expected counters on stderr\n"
         "  -o FILE             the recording\n"
         "  --truth FILE        expected `lmsego scans FILE` output\n"
@@ -171,6 +195,7 @@ static int parse_options(int argc, char **argv, gen_options_t *o)
     o->values = 181u;
     o->unit = LMS_UNIT_MM;
     o->faults = false;
+    o->adversarial = false;
     o->verbose = false;
     o->out_path = NULL;
     o->truth_path = NULL;
@@ -188,6 +213,10 @@ static int parse_options(int argc, char **argv, gen_options_t *o)
         }
         if (strcmp(opt, "--verbose") == 0) {
             o->verbose = true;
+            continue;
+        }
+        if (strcmp(opt, "--adversarial") == 0) {
+            o->adversarial = true;
             continue;
         }
         if (i + 1 >= argc) {
@@ -234,6 +263,12 @@ static int parse_options(int argc, char **argv, gen_options_t *o)
     }
     if (o->faults && o->scans < GEN_MIN_FAULT_SCANS) {
         return usage_error("--faults needs --scans 20 or more", NULL);
+    }
+    if (o->adversarial && o->faults) {
+        return usage_error("--adversarial and --faults do not mix", NULL);
+    }
+    if (o->adversarial) {
+        o->scans = ADVERSARIAL_KINDS * ADVERSARIAL_SCANS;
     }
     return -1;
 }
@@ -306,6 +341,87 @@ static void make_scan(rng_t *rng, unsigned k, const layout_t *layout, lms_unit_t
             }
             out->words[i] = (uint16_t)word;
             out->truth[i] = units * (long)unit_mm;
+        }
+    }
+}
+
+
+/* A range in the stream's unit, as a value word and its truth. */
+static void put_range(gen_scan_t *out, unsigned i, double range_mm, lms_unit_t unit)
+{
+    const double unit_mm = (unit == LMS_UNIT_MM) ? 1.0 : 10.0;
+    long units = lround(range_mm / unit_mm);
+    units = (units < 1) ? 1 : ((units > (long)WORD_MAX_RANGE) ? (long)WORD_MAX_RANGE : units);
+    out->words[i] = (uint16_t)units;
+    out->truth[i] = units * (long)unit_mm;
+}
+
+static void put_word(gen_scan_t *out, unsigned i, uint16_t word, long truth)
+{
+    out->words[i] = word;
+    out->truth[i] = truth;
+}
+
+static void make_adversarial(unsigned k, const layout_t *layout, lms_unit_t unit,
+                             gen_scan_t *out)
+{
+    const unsigned kind = k / ADVERSARIAL_SCANS;
+    const unsigned n = layout->count;
+    const double unit_mm = (unit == LMS_UNIT_MM) ? 1.0 : 10.0;
+    const double max_mm = (double)WORD_MAX_RANGE * unit_mm;
+    const room_pose_t pose = room_scanner_pose(0u);
+    for (unsigned i = 0u; i < n; i++) {
+        const double beam_deg = layout->start_deg + layout->step_deg * (double)i;
+        /* The mirror image swaps the beams end for end on odd scans. */
+        const unsigned mirrored = (kind == ADV_MIRRORED && k % 2u == 1u) ? n - 1u - i : i;
+        const double room_deg = layout->start_deg + layout->step_deg * (double)mirrored;
+        const double room_mm =
+            room_cast_ray(pose.x, pose.y, pose.heading + (room_deg - 90.0) * (GEN_PI / 180.0)) *
+            1000.0;
+        switch (kind) {
+        case ADV_ALL_INVALID:
+            put_word(out, i, WORD_NO_RETURN, TRUTH_NO_RETURN);
+            break;
+        case ADV_ONE_POINT:
+            if (i == n / 2u) {
+                put_range(out, i, 5000.0, unit);
+            } else {
+                put_word(out, i, WORD_NO_RETURN, TRUTH_NO_RETURN);
+            }
+            break;
+        case ADV_TWO_POINTS:
+            if (i == n / 3u || i == 2u * n / 3u) {
+                put_range(out, i, 5000.0, unit);
+            } else {
+                put_word(out, i, WORD_NO_RETURN, TRUTH_NO_RETURN);
+            }
+            break;
+        case ADV_STRAIGHT_WALL: { /* 5 m ahead, across the whole field */
+            const double c = fabs(cos((beam_deg - 90.0) * (GEN_PI / 180.0)));
+            put_range(out, i, (c > 0.06) ? 5000.0 / c : max_mm, unit);
+            break;
+        }
+        case ADV_ONE_RANGE: /* a circle around the scanner */
+            put_range(out, i, 5000.0, unit);
+            break;
+        case ADV_ZIGZAG_AT_LIMIT:
+            put_range(out, i, (i % 2u == 0u) ? max_mm : max_mm - 800.0, unit);
+            break;
+        case ADV_ALL_AT_MAX:
+            put_range(out, i, max_mm, unit);
+            break;
+        case ADV_SPECIALS:
+            if (i % 3u == 0u) {
+                put_word(out, i, WORD_NO_RETURN, TRUTH_NO_RETURN);
+            } else if (i % 3u == 1u) {
+                put_word(out, i, WORD_DAZZLE, TRUTH_DAZZLE);
+            } else {
+                put_word(out, i, WORD_BEYOND_MAX, TRUTH_BEYOND_MAX);
+            }
+            break;
+        default: /* the room from one pose, repeated or mirrored */
+            put_range(out, i, room_mm, unit);
+            break;
         }
     }
 }
@@ -672,7 +788,11 @@ static void generate(gen_t *g, const gen_options_t *o)
             (void)fprintf(stderr, "lmsgen: %zu garbage bytes at offset %zu, before scan %u\n",
                           g->stream.len - before, before, k);
         }
-        make_scan(&scene_rng, k, &layout, o->unit, &scan);
+        if (o->adversarial) {
+            make_adversarial(k, &layout, o->unit, &scan);
+        } else {
+            make_scan(&scene_rng, k, &layout, o->unit, &scan);
+        }
         const tel_fate_t fate = fate_of(&plan, o->faults, k);
         if (fate == TEL_GOOD) {
             const size_t n = encode_scan(&scan, layout.count, o->unit, tel);
