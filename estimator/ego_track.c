@@ -521,7 +521,10 @@ static uint16_t even_guess(const ego_track_run_t *run, int64_t rel)
     }
     const uint32_t at = (uint32_t)((rel - first) >> 16);
     const uint32_t all = (uint32_t)(spread >> 16);
-    return (all == 0u) ? 0u : (uint16_t)((at * (uint32_t)(n - 1u)) / all);
+    if (all == 0u) {
+        return 0u;
+    }
+    return (uint16_t)((at * (uint32_t)(n - 1u)) / all);
 }
 
 void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last, fx_q16_16_t sigma,
