@@ -959,26 +959,35 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
 }
 
 /* A heading change the prediction missed (a turn begins, a bump): the
- * turn between the two scans' main directions (line directions: the
- * alternative nearest the prediction) as a second start for tracking, with
- * the predicted translation; false when it is within ONE_TURN_GUESS of the
- * prediction (tracking started there already). */
+ * turn that best aligns the two scans' direction histograms within
+ * TURN_GUESS_DEG of the prediction (ego_hist_turn_guess, 1-deg bins), as a
+ * second start for tracking with the predicted translation; false when it
+ * is within ONE_TURN_GUESS of the prediction (tracking started there
+ * already) or the meter cannot pay for it. */
 #define ONE_TURN_GUESS FX_BAM32_DEG_C(1.0)
+#define TURN_GUESS_DEG 15u
 
-static bool turned_start(const ego_state_t *state, uint8_t cur, const ego_pose_t *predicted,
+static bool turned_start(ego_state_t *state, uint8_t cur, const ego_pose_t *predicted,
                          ego_pose_t *start)
 {
-    const fx_bam32_t turn = ego_hist_main_direction(&state->hist[cur]) -
-                            ego_hist_main_direction(&state->hist[state->last]);
-    /* turn and turn + 180 deg describe the same lines. */
-    const int64_t a = fx_bam32_diff(turn, predicted->theta);
-    const int64_t b = fx_bam32_diff(turn + FX_BAM32_HALF, predicted->theta);
-    const int64_t off = ((a < 0 ? -a : a) <= (b < 0 ? -b : b)) ? a : b;
-    if ((off < 0 ? -off : off) < (int64_t)ONE_TURN_GUESS) {
+    const uint32_t cost = EGO_HIST_BINS * COST_CORRELATE_BIN / 2u +
+                          (2u * TURN_GUESS_DEG + 3u) * EGO_HIST_GUESS_PRODUCTS *
+                              EGO_COST_CORRELATE_PRODUCT;
+    if (!ego_work_allows(&state->work, cost)) {
+        return false;
+    }
+    STAGE(EGO_STAGE_CORRELATE);
+    ego_work_spend(&state->work, cost);
+    fx_bam32_t turn = 0u;
+    const bool found = ego_hist_turn_guess(&state->hist[cur], &state->hist[state->last],
+                                           predicted->theta, TURN_GUESS_DEG, &turn);
+    STAGE(EGO_STAGE_OTHER);
+    const int64_t off = fx_bam32_diff(turn, predicted->theta);
+    if (!found || (off < 0 ? -off : off) < (int64_t)ONE_TURN_GUESS) {
         return false;
     }
     *start = *predicted;
-    start->theta = predicted->theta + (fx_bam32_t)(uint32_t)off;
+    start->theta = turn;
     return true;
 }
 
@@ -1051,7 +1060,9 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
                                           : TRACK_FAILED;
     ego_pose_t turned;
     if (tracked == TRACK_FAILED && may_track && turned_start(state, cur, &predicted, &turned)) {
-        tracked = track(state, params, cur, &turned, &predicted, have_prediction, dt, out);
+        /* The turned start stands for the prediction: the histograms' turn
+         * with the predicted translation, two pieces of evidence. */
+        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, out);
     }
     if (tracked == TRACK_FOUND) {
         set_velocities(out);

@@ -612,3 +612,104 @@ void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_ba
     (void)ego_hist_correlation_step(&c, current, last, UINT32_MAX);
     ego_hist_correlation_result(&c, match);
 }
+
+/* Fine bins per coarse bin of the turn guess (1 deg). */
+#define GUESS_GROUP 5u
+#define GUESS_BINS (EGO_HIST_BINS / GUESS_GROUP)
+_Static_assert(EGO_HIST_BINS % GUESS_GROUP == 0u, "whole coarse bins");
+
+/* A histogram in 1-deg bins from fine bin `from` on (wrapping), scaled
+ * right by `shift`; the largest sum before scaling. */
+static uint64_t coarse_bins(const ego_hist_t *h, uint32_t from, unsigned shift, uint16_t *out)
+{
+    uint64_t top = 0u;
+    uint32_t j = from;
+    for (uint16_t c = 0u; c < GUESS_BINS; c++) {
+        uint64_t sum = 0u;
+        for (uint16_t k = 0u; k < GUESS_GROUP; k++) {
+            sum += h->bin[j];
+            j = (j + 1u < EGO_HIST_BINS) ? j + 1u : 0u;
+        }
+        top = (sum > top) ? sum : top;
+        if (out != NULL) {
+            const uint64_t v = sum >> shift;
+            out[c] = (uint16_t)((v > 0xFFFFu) ? 0xFFFFu : v);
+        }
+    }
+    return top;
+}
+
+bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                         uint16_t max_shift_coarse, fx_bam32_t *turn)
+{
+    /* The centre in fine bins, rounded (as the correlation's). */
+    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)EGO_HIST_BINS;
+    const int32_t mid = (int32_t)((centre_q + (centre_q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) /
+                                  ((int64_t)1 << 31));
+    /* Both histograms in 1-deg bins, 16 bits: the current one from bin 0,
+     * the last one from the centre's place within a coarse bin, so that
+     * every shift tried (mid + s GUESS_GROUP) is a whole number of coarse
+     * bins. */
+    const uint32_t phase = (uint32_t)(((mid % (int32_t)GUESS_GROUP) + (int32_t)GUESS_GROUP) %
+                                      (int32_t)GUESS_GROUP);
+    const uint64_t top_a = coarse_bins(current, 0u, 0u, NULL);
+    const uint64_t top_b = coarse_bins(last, phase, 0u, NULL);
+    if (top_a == 0u || top_b == 0u) {
+        return false;
+    }
+    unsigned sa = 0u;
+    while ((top_a >> sa) > 0xFFFFu) {
+        sa++;
+    }
+    unsigned sb = 0u;
+    while ((top_b >> sb) > 0xFFFFu) {
+        sb++;
+    }
+    uint16_t a[GUESS_BINS];
+    uint16_t b[GUESS_BINS];
+    (void)coarse_bins(current, 0u, sa, a);
+    (void)coarse_bins(last, phase, sb, b);
+    const int32_t base = (mid - (int32_t)phase) / (int32_t)GUESS_GROUP; /* exact */
+    const int32_t limit = (max_shift_coarse < GUESS_BINS / 2u) ? (int32_t)max_shift_coarse
+                                                                : (int32_t)(GUESS_BINS / 2u - 1u);
+    /* dot(s) = sum_c a[c] b[c + base + s]: current bin i meets last bin
+     * i + shift, the correlation's convention. */
+    uint64_t best = 0u;
+    uint64_t best_left = 0u;
+    uint64_t best_right = 0u;
+    int32_t best_s = 0;
+    bool found = false;
+    uint64_t prev = 0u;
+    uint64_t here = 0u;
+    for (int32_t s = -limit - 1; s <= limit + 1; s++) {
+        const int32_t start = base + s;
+        uint32_t j = (uint32_t)(((start % (int32_t)GUESS_BINS) + (int32_t)GUESS_BINS) %
+                                (int32_t)GUESS_BINS);
+        uint64_t dot = 0u;
+        for (uint16_t c = 0u; c < GUESS_BINS; c++) {
+            dot += (uint32_t)a[c] * b[j];
+            j = (j + 1u < GUESS_BINS) ? j + 1u : 0u;
+        }
+        /* s - 1 is a maximum within the range: keep the largest. */
+        if (s - 1 >= -limit && s - 1 <= limit && here >= prev && here > dot &&
+            (!found || here > best)) {
+            found = true;
+            best = here;
+            best_left = prev;
+            best_right = dot;
+            best_s = s - 1;
+        }
+        prev = here;
+        here = dot;
+    }
+    if (!found) {
+        return false;
+    }
+    const peak_t p = {mid + best_s * (int32_t)GUESS_GROUP, (int64_t)best, (int64_t)best_left,
+                      (int64_t)best_right};
+    /* The parabola's offset is in coarse bins: scale it to fine ones. */
+    const int64_t shift_bam = ((int64_t)p.shift * ((int64_t)1 << 31)) / (int64_t)EGO_HIST_BINS;
+    const int64_t coarse_offset = fx_bam32_diff(peak_rotation(&p), 0u) - shift_bam;
+    *turn = (fx_bam32_t)(uint64_t)(shift_bam + coarse_offset * (int64_t)GUESS_GROUP);
+    return true;
+}

@@ -164,6 +164,19 @@ void ego_hist_correlation_result(const ego_hist_correlation_t *c, ego_hist_match
  * which depend on how the histogram's filled bins lie, plus their runs'
  * own work. */
 uint32_t ego_hist_correlation_products(const ego_hist_t *current);
+/* A quick guess of the turn between two scans for tracking's retry: the
+ * shift within +-max_shift_coarse degrees of centre that best aligns the
+ * current histogram with the last one (current bin i with last bin i +
+ * shift, as the correlation), on 1-deg bins, the peak refined by a
+ * parabola. The uncentred dot product: for circular shifts its maximum is
+ * the correlation's. Its work: four passes over the fine bins, then
+ * EGO_HIST_GUESS_PRODUCTS products per shift (1 deg) tried, 2
+ * max_shift_coarse + 3 shifts. False when a histogram is empty or no shift
+ * inside the range is a maximum. */
+#define EGO_HIST_GUESS_PRODUCTS 360u /* 180 products with their index wrap: twice a
+                                         correlation product's work (measured) */
+bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                         uint16_t max_shift_coarse, fx_bam32_t *turn);
 /* Shifts in all (2 max_shift_bins + 1, capped). */
 uint32_t ego_hist_correlation_shifts(const ego_hist_correlation_t *c);
 
