@@ -189,6 +189,58 @@ static void test_hist_correlation_finds_the_rotation(void)
     check_rotation(EGO_HIST_LAH, -40.0, 1.0);
 }
 
+/* The 1-deg turn guess (tracking's retry): the same rotation as the full
+ * correlation within 0.5 deg on the AH histograms of a turned room, the
+ * dot products at its best coarse shift against a double oracle, and
+ * nothing for an empty histogram. */
+static void test_hist_turn_guess_finds_the_turn(void)
+{
+    const double thetas[] = {0.0, 3.3, -7.71, 10.4, -14.2};
+    for (unsigned k = 0u; k < 5u; k++) {
+        room_scan(0.2, 0.1, 0.0, 361u, &g_last);
+        room_scan(0.2, 0.1, thetas[k], 361u, &g_current);
+        ego_hist_params_t p;
+        ego_hist_defaults(&p);
+        p.kind = EGO_HIST_AH;
+        (void)ego_hist_build(&g_last, &p, &g_hl);
+        (void)ego_hist_build(&g_current, &p, &g_hc);
+        fx_bam32_t turn = 0u;
+        /* Centred 2 deg off the truth, as a prediction would be. */
+        const fx_bam32_t centre = (fx_bam32_t)(int32_t)lround((thetas[k] + 2.0) / 180.0 * 2147483648.0);
+        TEST_ASSERT_TRUE(ego_hist_turn_guess(&g_hc, &g_hl, centre, 15u, &turn));
+        const double got = deg_of_bam(fx_bam32_diff(turn, 0u));
+        /* The oracle: the best whole-degree shift of the 1-deg sums. */
+        double best_dot = -1.0;
+        int best_shift = 0;
+        for (int s = -17; s <= 13; s++) {
+            double dot = 0.0;
+            for (unsigned c = 0u; c < EGO_HIST_BINS / 5u; c++) {
+                double a = 0.0;
+                double b = 0.0;
+                for (unsigned q = 0u; q < 5u; q++) {
+                    a += g_hc.bin[c * 5u + q];
+                    b += g_hl.bin[(unsigned)(((int)(c * 5u + q) + (int)lround(thetas[k] + 2.0) * 5 + s * 5 +
+                                             10 * (int)EGO_HIST_BINS) %
+                                            (int)EGO_HIST_BINS)];
+                }
+                dot += a * b;
+            }
+            if (dot > best_dot) {
+                best_dot = dot;
+                best_shift = s + (int)lround(thetas[k] + 2.0);
+            }
+        }
+        char msg[128];
+        (void)snprintf(msg, sizeof msg, "turn %.2f: guess %.3f, oracle's whole degree %d", thetas[k],
+                       got, best_shift);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(got - thetas[k]) < 0.5, msg);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(got - (double)best_shift) <= 0.5, msg);
+    }
+    memset(&g_hc, 0, sizeof g_hc);
+    fx_bam32_t turn = 0u;
+    TEST_ASSERT_FALSE(ego_hist_turn_guess(&g_hc, &g_hl, 0u, 15u, &turn));
+}
+
 static void test_hist_flat_histogram_gives_no_candidate(void)
 {
     memset(&g_hc, 0, sizeof g_hc);
@@ -417,6 +469,7 @@ int main(void)
     RUN_TEST(test_hist_ah_of_a_room_peaks_at_the_walls);
     RUN_TEST(test_hist_htah_votes_within_hah);
     RUN_TEST(test_hist_correlation_finds_the_rotation);
+    RUN_TEST(test_hist_turn_guess_finds_the_turn);
     RUN_TEST(test_hist_flat_histogram_gives_no_candidate);
     RUN_TEST(test_hist_correlation_of_a_shifted_copy);
     RUN_TEST(test_hist_correlation_around_a_centre);
