@@ -10,8 +10,8 @@
  *     scaled) over scans at most 0.2 s apart: it stands when converged with
  *     at least accept_fraction of each group as inliers, or close to a
  *     trusted prediction with half that share over both groups. A failed
- *     tracking is tried once more from the turn between the two scans' main
- *     directions;
+ *     tracking is tried once more from the turn that best aligns the two
+ *     scans' direction histograms (ego_hist_turn_guess);
  *  3. otherwise search, anytime, against the last scan: robust tangents
  *     and HTAH for both scans, the histogram correlation's rotation
  *     candidates, for each candidate ITCP with the rotation held then free
