@@ -117,15 +117,17 @@ typedef struct {
 #define EGO_DEFAULT_WORK_PER_SCAN 150000u
 #define EGO_DEFAULT_WORK_PER_S 30000000u
 
-/* The defaults: no budget yet (work_per_s 0): every scan gets the work it
- * needs, tracked when it can be, searched when not. */
+/* The defaults, unbounded (work_per_s 0): every scan gets the work it
+ * needs, tracked when it can be, searched when not (offline analysis, and
+ * keyframe logs, whose searches still need more than a sensor-rate budget
+ * gives: docs/estimator.md, "The work budget"). */
 void ego_defaults(ego_params_t *params);
 
-/* The sensor-rate budget of issue 15 on top of ego_defaults (work_per_scan
- * EGO_DEFAULT_WORK_PER_SCAN, work_per_s EGO_DEFAULT_WORK_PER_S). Work in
- * progress: the budget holds by construction, but at 75 Hz tracking does
- * not fit it yet after the scan's preparation, so the output is mostly
- * EGO_FLAG_RECOVERING (docs/estimator.md, "The work budget"). */
+/* The sensor-rate budget on top of ego_defaults (work_per_scan
+ * EGO_DEFAULT_WORK_PER_SCAN, work_per_s EGO_DEFAULT_WORK_PER_S): what the
+ * live core runs (ego_live_defaults). Every scan keeps its budget; tracked
+ * scans keep every beam; a search that needs more runs over the next
+ * scans (EGO_FLAG_RECOVERING, then EGO_FLAG_RECOVERED). */
 void ego_budget_defaults(ego_params_t *params);
 
 /* The search in progress (ego.c). Private. */
