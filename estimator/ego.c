@@ -869,9 +869,10 @@ static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t
     for (uint16_t k = 0u; k < scan->count; k++) {
         valid += (scan->range[k] != 0u) ? 1u : 0u;
     }
+    /* The scan's bookkeeping (EGO_COST_SCAN) is paid already. */
     const uint64_t left = ego_work_left(&state->work);
     const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * EGO_TRACK_TYPICAL_POINT;
-    const uint64_t fixed = EGO_COST_SCAN + (uint64_t)scan->count * EGO_COST_BEAM_SKIPPED;
+    const uint64_t fixed = (uint64_t)scan->count * EGO_COST_BEAM_SKIPPED;
     const uint64_t points = (left > fixed) ? (left - fixed) / per_point : 0u;
     if (points >= valid) {
         return 1u;
