@@ -320,6 +320,9 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     queue.deepest = 0u;
     lms_session_defaults(&o.session);
     ego_loop_defaults(&o.loop);
+    /* Live, a line is due before the next scan: the sensor-rate budget, as
+     * ego_live_defaults has it (this config replaces that one's loop). */
+    ego_budget_defaults(&o.loop.ego);
     const int rc = parse_options(self, argc, argv, record, &o);
     if (rc == PARSED_HELP) {
         return CLI_EXIT_OK; /* --help */
