@@ -97,15 +97,21 @@ static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
 }
 
 /* Is the estimate within the prediction's trust distance of it. */
+/* |a - b| of two headings, binary angle (at most half a turn). */
+static int64_t turn_between(fx_bam32_t a, fx_bam32_t b)
+{
+    const int64_t d = fx_bam32_diff(a, b);
+    return (d < 0) ? -d : d;
+}
+
 static bool close_to(const ego_pose_t *estimate, const ego_pose_t *predicted,
                      const ego_params_t *params)
 {
     const int64_t dx = (int64_t)estimate->x - predicted->x;
     const int64_t dy = (int64_t)estimate->y - predicted->y;
     const int64_t r = params->trust_translation;
-    const int64_t dtheta = fx_bam32_diff(estimate->theta, predicted->theta);
-    const int64_t abs_dtheta = (dtheta < 0) ? -dtheta : dtheta;
-    return dx * dx + dy * dy <= r * r && abs_dtheta <= (int64_t)params->trust_rotation;
+    return dx * dx + dy * dy <= r * r &&
+           turn_between(estimate->theta, predicted->theta) <= (int64_t)params->trust_rotation;
 }
 
 static void set_velocities(ego_output_t *out)
@@ -502,8 +508,7 @@ static void candidate_begin(ego_state_t *state, const ego_params_t *params)
 static bool confirms_prediction(const ego_params_t *params, const ego_search_t *se,
                                 const ego_itcp_result_t *r)
 {
-    return se->light && se->have_prediction && r->converged &&
-           close_to(&r->pose, &se->predicted, params);
+    return se->have_prediction && r->converged && close_to(&r->pose, &se->predicted, params);
 }
 
 /* After a candidate's attempt: the next coarse pass (around the
@@ -751,8 +756,8 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
          * prediction missed by more than its trust says it missed the
          * rest too; else the match's own guess, flagged either way). */
         out->flags |= EGO_FLAG_APERTURE;
-        const int64_t turn_off = fx_bam32_diff(r->pose.theta, predicted->theta);
-        if (have_prediction && (turn_off < 0 ? -turn_off : turn_off) <= (int64_t)params->trust_rotation) {
+        if (have_prediction &&
+            turn_between(r->pose.theta, predicted->theta) <= (int64_t)params->trust_rotation) {
             keep_prediction_along(&out->pose, predicted, main_direction);
         }
     }
@@ -983,8 +988,7 @@ static bool turned_start(ego_state_t *state, uint8_t cur, const ego_pose_t *pred
     const bool found = ego_hist_turn_guess(&state->hist[cur], &state->hist[state->last],
                                            predicted->theta, TURN_GUESS_DEG, &turn);
     STAGE(EGO_STAGE_OTHER);
-    const int64_t off = fx_bam32_diff(turn, predicted->theta);
-    if (!found || (off < 0 ? -off : off) < (int64_t)ONE_TURN_GUESS) {
+    if (!found || turn_between(turn, predicted->theta) < (int64_t)ONE_TURN_GUESS) {
         return false;
     }
     *start = *predicted;
@@ -1070,13 +1074,14 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         advance(state, params, cur, time_us, out, true, true, &predicted, true);
         return;
     }
+    /* What the trackings left in out is no answer. */
+    const uint16_t points = out->points;
+    memset(out, 0, sizeof *out);
+    out->points = points;
     if (tracked == TRACK_FAILED && after_search && prior == NULL) {
         /* Another search would span more scans still, and at speed the
          * scans so far apart may not overlap: the prediction bridges the
          * interval (flagged), and the next scan is tracked from this one. */
-        const uint16_t points = out->points;
-        memset(out, 0, sizeof *out);
-        out->points = points;
         out->dt_us = dt;
         out->flags = EGO_FLAG_PREDICTED;
         out->pose = predicted;
@@ -1085,9 +1090,6 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         state->predictable = true;
         return;
     }
-    const uint16_t points = out->points;
-    memset(out, 0, sizeof *out);
-    out->points = points;
     search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction,
                  !ample(state));
     if (tracked == TRACK_UNFINISHED) {

@@ -154,13 +154,11 @@ static void score_begin(ego_coarse_run_t *r, const ego_pose_t *pose, fx_q16_16_t
     sc->active = true;
     sc->pose = *pose;
     fx_sincos(pose->theta, &sc->sn, &sc->cs);
+    sc->sigma = sigma;
     sc->sigma_sq = (uint64_t)((int64_t)sigma * sigma);
     sc->must_beat = must_beat;
     sc->ties_win = ties_win;
     ego_itcp_prober_init(&sc->prober, r->last, sigma, 2 * sigma);
-    if (r->along != NULL) {
-        ego_track_probe_sigma(r->along, sigma);
-    }
     memset(sc->tally, 0, sizeof sc->tally);
     sc->group = 0u;
     sc->next = 0u;
@@ -192,10 +190,11 @@ static bool score_points(ego_coarse_run_t *r, ego_work_t *work)
         ego_pose_apply(&sc->pose, sc->sn, sc->cs, r->current->x[i], r->current->y[i], &qx, &qy);
         uint64_t d2 = 0u;
         uint32_t units = 0u;
-        const ego_itcp_probe_t found = (r->along != NULL)
-                                           ? ego_track_probe(r->along, qx, qy, &d2, &units)
-                                           : ego_itcp_probe(&sc->prober, qx, qy, &d2);
-        if (r->along == NULL) {
+        ego_itcp_probe_t found;
+        if (r->along != NULL) {
+            found = ego_track_probe(r->along, qx, qy, sc->sigma, &d2, &units);
+        } else {
+            found = ego_itcp_probe(&sc->prober, qx, qy, &d2);
             units = ego_itcp_prober_take_units(&sc->prober);
         }
         ego_work_spend(work, units + COST_SCORE_POINT);
@@ -347,7 +346,7 @@ void ego_coarse_along_bearing(ego_coarse_run_t *r, ego_track_run_t *prober,
                               const ego_track_params_t *params)
 {
     if (r->last != NULL) {
-        ego_track_probe_start(prober, r->last, 0, params);
+        ego_track_probe_start(prober, r->last, params);
         r->along = prober;
     }
 }

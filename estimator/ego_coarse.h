@@ -74,6 +74,7 @@ typedef struct {
     ego_pose_t pose;
     fx_q2_30_t sn;
     fx_q2_30_t cs;
+    fx_q16_16_t sigma;
     uint64_t sigma_sq;
     uint64_t must_beat;
     bool ties_win;

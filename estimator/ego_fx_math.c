@@ -299,8 +299,7 @@ fx_bam32_t fx_atan2(int64_t y, int64_t x)
     return unfold_octant(phi, steep, x, y);
 }
 
-/* Significant bits of d, d != 0. */
-static unsigned bits_of(uint32_t d)
+unsigned fx_bits_u32(uint32_t d)
 {
     return 64u - clz64((uint64_t)d);
 }
@@ -335,7 +334,7 @@ fx_bam32_t fx_atan2_quick(int64_t y, int64_t x)
     if (b == 0u) {
         return 0u;
     }
-    const unsigned n = bits_of(b);
+    const unsigned n = fx_bits_u32(b);
     if (n > 16u) {
         b >>= n - 16u;
         s >>= n - 16u;

@@ -44,6 +44,9 @@ fx_bam32_t fx_atan2(int64_t y, int64_t x);
 #define FX_ATAN2_QUICK_ERROR 262144
 fx_bam32_t fx_atan2_quick(int64_t y, int64_t x);
 
+/* Significant bits of d (d != 0: 1 .. 32). */
+unsigned fx_bits_u32(uint32_t d);
+
 /* Square root of v, rounded to the nearest integer (a result of 2^32 - 1
  * for the top of the range, v > 2^64 - 2^32, where the rounded root would
  * not fit). Used on sums of squares: sqrt of a Q32.32 value is its Q16.16

@@ -509,6 +509,13 @@ static fx_bam32_t peak_rotation(const peak_t *p)
     return (fx_bam32_t)(uint64_t)bam;
 }
 
+/* A rotation in bins (0.2 deg), rounded: |result| <= EGO_HIST_BINS. */
+static int32_t bins_of(fx_bam32_t rotation)
+{
+    const int64_t q = (int64_t)fx_bam32_diff(rotation, 0u) * (int64_t)EGO_HIST_BINS;
+    return (int32_t)((q + (q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) / ((int64_t)1 << 31));
+}
+
 void ego_hist_correlation_start(ego_hist_correlation_t *c, fx_bam32_t centre,
                                 uint16_t max_shift_bins, uint16_t merge_bins)
 {
@@ -516,10 +523,7 @@ void ego_hist_correlation_start(ego_hist_correlation_t *c, fx_bam32_t centre,
     c->merge_bins = merge_bins;
     c->limit =
         (int32_t)((max_shift_bins < EGO_HIST_BINS / 2u) ? max_shift_bins : EGO_HIST_BINS / 2u - 1u);
-    /* The centre in bins (0.2 deg), rounded: |c| <= EGO_HIST_BINS. */
-    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)EGO_HIST_BINS;
-    c->mid = (int32_t)((centre_q + (centre_q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) /
-                       ((int64_t)1 << 31));
+    c->mid = bins_of(centre);
     c->next = c->mid - c->limit;
 }
 
@@ -642,10 +646,7 @@ static uint64_t coarse_bins(const ego_hist_t *h, uint32_t from, unsigned shift, 
 bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
                          uint16_t max_shift_coarse, fx_bam32_t *turn)
 {
-    /* The centre in fine bins, rounded (as the correlation's). */
-    const int64_t centre_q = (int64_t)fx_bam32_diff(centre, 0u) * (int64_t)EGO_HIST_BINS;
-    const int32_t mid = (int32_t)((centre_q + (centre_q >= 0 ? 1 : -1) * ((int64_t)1 << 30)) /
-                                  ((int64_t)1 << 31));
+    const int32_t mid = bins_of(centre);
     /* Both histograms in 1-deg bins, 16 bits: the current one from bin 0,
      * the last one from the centre's place within a coarse bin, so that
      * every shift tried (mid + s GUESS_GROUP) is a whole number of coarse

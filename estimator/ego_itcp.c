@@ -313,19 +313,6 @@ static uint16_t lower_bound(const matcher_t *m, int64_t rel, uint16_t hint)
     return lo;
 }
 
-/* Significant bits of d > 0. */
-static unsigned bits32(uint32_t d)
-{
-#if defined(__GNUC__)
-    return 32u - (unsigned)__builtin_clz(d);
-#else
-    unsigned n = 0u;
-    for (; d != 0u && n < 32u; n++) {
-        d >>= 1;
-    }
-    return n;
-#endif
-}
 
 
 /* A current point moved into the last scan's frame, located in its scan
@@ -398,7 +385,7 @@ static int64_t cone_of(fx_q16_16_t radius, int64_t r)
     }
     uint32_t d = (uint32_t)r;
     uint32_t n = (uint32_t)radius;
-    const unsigned b = bits32(d);
+    const unsigned b = fx_bits_u32(d);
     if (b > 16u) {
         const unsigned shift = b - 16u;
         const uint32_t lost = n & ((1u << shift) - 1u);

@@ -14,6 +14,19 @@
  * any scan, and it keeps the differences of fit_segment in 32 bits. */
 #define FAR_LIMIT ((int64_t)1 << 29)
 
+/* The work of matching one point, counted as it is done. */
+typedef struct {
+    uint32_t steps; /* walked (EGO_COST_MATCH_STEP each) */
+    uint32_t fits;  /* segments tried (EGO_COST_TRACK_FIT) */
+    uint32_t roots; /* square roots taken (EGO_COST_TRACK_NORMAL) */
+} point_work_t;
+
+static uint32_t units_of(uint32_t base, const point_work_t *w)
+{
+    return base + w->steps * EGO_COST_MATCH_STEP + w->fits * EGO_COST_TRACK_FIT +
+           w->roots * EGO_COST_TRACK_NORMAL;
+}
+
 /* 2^32 / (2 pi) / 2^16 = 10430.378: radians Q16.16 -> binary angle, as
  * (x * 1335088) >> 7. */
 #define BAM_PER_RAD_Q16_X128 1335088
@@ -234,12 +247,63 @@ EGO_NOINLINE static bool fit_segment(ego_track_run_t *run, uint16_t a, fx_q16_16
     return f->ok;
 }
 
-/* Matches current point i at the run's pose into its group's sums; counts
- * the walk's steps and the segments tried (their work). */
-EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t *steps,
-                                     uint32_t *fits, uint32_t *normals)
+/* The index a relative bearing would have in the last scan were its
+ * points evenly spread between its first and last bearing (32-bit: the
+ * spread cut to 16 bits, the index below 2^14). */
+static uint16_t even_guess(const ego_track_run_t *run, int64_t rel)
+{
+    const uint16_t n = run->last->count;
+    const int64_t first = rel_bearing(run, 0u);
+    const int64_t spread = rel_bearing(run, (uint16_t)(n - 1u)) - first;
+    if (spread <= 0 || rel <= first) {
+        return 0u;
+    }
+    if (rel - first >= spread) {
+        return (uint16_t)(n - 1u);
+    }
+    const uint32_t at = (uint32_t)((rel - first) >> 16);
+    const uint32_t all = (uint32_t)(spread >> 16);
+    if (all == 0u) {
+        return 0u;
+    }
+    return (uint16_t)((at * (uint32_t)(n - 1u)) / all);
+}
+
+/* The last scan's segment for (qx, qy) along its bearing from the last
+ * scanner: the segment j - 1 -> j spanning it (j, the first last-scan point
+ * at or past that bearing, in *j), else, when that one does not take the
+ * point (a break, an end), a neighbour on either side; best.ok false when
+ * none does. The walk starts at the run's hint, or where the bearing falls
+ * if the beams were evenly spread (probes that jump about the scan). The
+ * bearing only picks the segment: the quick arctangent does. */
+static segment_fit_t along_bearing(ego_track_run_t *run, fx_q16_16_t qx, fx_q16_16_t qy,
+                                   bool guess_hint, uint16_t *j, point_work_t *w)
 {
     const ego_scan_t *l = run->last;
+    const int64_t rel = fx_bam32_diff(
+        fx_atan2_quick((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
+    if (guess_hint) {
+        run->hint = even_guess(run, rel);
+    }
+    *j = locate(run, rel, &w->steps);
+    run->hint = *j;
+    segment_fit_t best = {false, 0, 0, 0};
+    for (int32_t k = 0; k < 3 && (k == 0 || !best.ok); k++) {
+        const int32_t a = (k == 0) ? (int32_t)*j - 1 : (k == 1) ? (int32_t)*j - 2 : (int32_t)*j;
+        segment_fit_t f;
+        if (a >= 0 && fit_segment(run, (uint16_t)a, qx, qy, &f, &w->roots) &&
+            (!best.ok || abs64(f.d) < abs64(best.d))) {
+            best = f;
+        }
+        w->fits++;
+    }
+    return best;
+}
+
+/* Matches current point i at the run's pose into its group's sums,
+ * counting its work. */
+EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, point_work_t *w)
+{
     const ego_scan_t *c = run->current;
     const ego_track_params_t *params = run->params;
     fx_q16_16_t qx;
@@ -259,30 +323,10 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, uint32_t 
     if (far) {
         return; /* nothing of the last scan is near: unmatched */
     }
-
-    /* The bearing only picks the segment (its neighbours are tried too):
-     * the quick arctangent does. */
-    const int64_t rel = fx_bam32_diff(
-        fx_atan2_quick((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
-    const uint16_t j = locate(run, rel, steps);
-    run->hint = j;
-    /* The segment j - 1 -> j spans the bearing; when it does not take the
-     * point (a break, an end), its neighbours on either side may. */
-    segment_fit_t best = {false, 0, 0, 0};
-    for (int32_t k = 0; k < 3; k++) {
-        const int32_t a = (k == 0) ? (int32_t)j - 1 : (k == 1) ? (int32_t)j - 2 : (int32_t)j;
-        if (k > 0 && best.ok) {
-            break;
-        }
-        segment_fit_t f;
-        if (a >= 0 && fit_segment(run, (uint16_t)a, qx, qy, &f, normals) &&
-            (!best.ok || abs64(f.d) < abs64(best.d))) {
-            best = f;
-        }
-        (*fits)++;
-    }
+    uint16_t j = 0u;
+    const segment_fit_t best = along_bearing(run, qx, qy, false, &j, w);
     if (!best.ok) {
-        if (seen_through(run, j, qx, qy, 2 * params->inlier_distance, normals)) {
+        if (seen_through(run, j, qx, qy, 2 * params->inlier_distance, &w->roots)) {
             g->seen_through++; /* in space the last scan saw empty */
         }
         return;
@@ -428,8 +472,8 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
     run->radius = (run->radius / 3 > params->radius) ? run->radius / 3 : params->radius;
     /* Until the budget: a meter that cannot pay for another pass ends the
      * run here, with the statistics of this one, converged when settled. */
-    run->stride = pass_stride(run);
-    const uint32_t next_points = (run->current->count + run->stride - 1u) / run->stride;
+    const uint32_t next_stride = pass_stride(run);
+    const uint32_t next_points = (run->current->count + next_stride - 1u) / next_stride;
     if (run->until_budget &&
         !ego_work_allows(work, next_points * EGO_TRACK_TYPICAL_POINT + EGO_COST_SOLVE)) {
         run->converged = settled;
@@ -450,13 +494,10 @@ bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
             if (!ego_work_allows(work, point_max)) {
                 return false;
             }
-            uint32_t steps = 0u;
-            uint32_t fits = 0u;
-            uint32_t normals = 0u;
-            match_point(run, run->next, &steps, &fits, &normals);
+            point_work_t w = {0u, 0u, 0u};
+            match_point(run, run->next, &w);
             run->next = (uint16_t)(run->next + run->stride);
-            ego_work_spend(work, EGO_COST_TRACK_POINT + steps * EGO_COST_MATCH_STEP +
-                                     fits * EGO_COST_TRACK_FIT + normals * EGO_COST_TRACK_NORMAL);
+            ego_work_spend(work, units_of(EGO_COST_TRACK_POINT, &w));
         } else {
             if (!ego_work_allows(work, EGO_COST_SOLVE)) {
                 return false;
@@ -505,81 +546,35 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
                                                                   : EGO_ITCP_OK;
 }
 
-/* The index a relative bearing would have in the last scan were its
- * points evenly spread between its first and last bearing (32-bit: the
- * spread cut to 16 bits, the index below 2^14). */
-static uint16_t even_guess(const ego_track_run_t *run, int64_t rel)
-{
-    const uint16_t n = run->last->count;
-    const int64_t first = rel_bearing(run, 0u);
-    const int64_t spread = rel_bearing(run, (uint16_t)(n - 1u)) - first;
-    if (spread <= 0 || rel <= first) {
-        return 0u;
-    }
-    if (rel - first >= spread) {
-        return (uint16_t)(n - 1u);
-    }
-    const uint32_t at = (uint32_t)((rel - first) >> 16);
-    const uint32_t all = (uint32_t)(spread >> 16);
-    if (all == 0u) {
-        return 0u;
-    }
-    return (uint16_t)((at * (uint32_t)(n - 1u)) / all);
-}
-
-void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last, fx_q16_16_t sigma,
+void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last,
                            const ego_track_params_t *params)
 {
     memset(run, 0, sizeof *run);
     run->last = last;
     run->params = params;
-    run->radius = sigma;
     run->finished = true; /* no registration */
     if (last->count > 0u) {
         run->ref = last->bearing[0] + (last->bearing[last->count - 1u] - last->bearing[0]) / 2u;
-        run->hint = (uint16_t)(last->count / 2u);
     }
 }
 
 ego_itcp_probe_t ego_track_probe(ego_track_run_t *run, fx_q16_16_t qx, fx_q16_16_t qy,
-                                 uint64_t *dist_sq, uint32_t *units)
+                                 fx_q16_16_t sigma, uint64_t *dist_sq, uint32_t *units)
 {
-    const ego_scan_t *l = run->last;
-    uint32_t steps = 0u;
-    uint32_t fits = 0u;
-    uint32_t normals = 0u;
+    point_work_t w = {0u, 0u, 0u};
     ego_itcp_probe_t found = EGO_ITCP_PROBE_NOTHING;
     *dist_sq = 0u;
-    if (l->count >= 2u && abs64(qx) < FAR_LIMIT && abs64(qy) < FAR_LIMIT) {
-        const int64_t rel = fx_bam32_diff(
-            fx_atan2_quick((int64_t)qy - l->origin_y, (int64_t)qx - l->origin_x), run->ref);
-        /* The probes of a coarse search jump about the scan: start the walk
-         * where the bearing falls if the beams were evenly spread. */
-        run->hint = even_guess(run, rel);
-        const uint16_t j = locate(run, rel, &steps);
-        int64_t best = -1;
-        for (int32_t k = 0; k < 3 && (k == 0 || best < 0); k++) {
-            const int32_t a = (k == 0) ? (int32_t)j - 1 : (k == 1) ? (int32_t)j - 2 : (int32_t)j;
-            segment_fit_t f;
-            if (a >= 0 && fit_segment(run, (uint16_t)a, qx, qy, &f, &normals) &&
-                (best < 0 || abs64(f.d) < best)) {
-                best = abs64(f.d);
-            }
-            fits++;
-        }
-        if (best >= 0 && best < run->radius) {
-            *dist_sq = (uint64_t)(best * best);
+    run->radius = sigma; /* fit_segment's reach */
+    if (run->last->count >= 2u && abs64(qx) < FAR_LIMIT && abs64(qy) < FAR_LIMIT) {
+        uint16_t j = 0u;
+        const segment_fit_t best = along_bearing(run, qx, qy, true, &j, &w);
+        if (best.ok && abs64(best.d) < sigma) {
+            *dist_sq = (uint64_t)(best.d * best.d);
             found = EGO_ITCP_PROBE_SURFACE;
-        } else if (seen_through(run, j, qx, qy, 2 * run->radius, &normals)) {
+        } else if (seen_through(run, j, qx, qy, 2 * sigma, &w.roots)) {
             found = EGO_ITCP_PROBE_SEEN_THROUGH;
         }
     }
-    *units = EGO_COST_TRACK_PROBE + steps * EGO_COST_MATCH_STEP + fits * EGO_COST_TRACK_FIT +
-             normals * EGO_COST_TRACK_NORMAL;
+    *units = units_of(EGO_COST_TRACK_PROBE, &w);
     return found;
-}
-
-void ego_track_probe_sigma(ego_track_run_t *run, fx_q16_16_t sigma)
-{
-    run->radius = sigma;
 }

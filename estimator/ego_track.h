@@ -131,11 +131,9 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
     (EGO_COST_TRACK_PROBE + 32u * EGO_COST_MATCH_STEP +                                     \
      3u * (EGO_COST_TRACK_FIT + EGO_COST_TRACK_NORMAL) + EGO_COST_TRACK_NORMAL)
 
-void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last, fx_q16_16_t sigma,
+void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last,
                            const ego_track_params_t *params);
 ego_itcp_probe_t ego_track_probe(ego_track_run_t *run, fx_q16_16_t qx, fx_q16_16_t qy,
-                                 uint64_t *dist_sq, uint32_t *units);
-/* The sigma of the next probes (the normals stay cached). */
-void ego_track_probe_sigma(ego_track_run_t *run, fx_q16_16_t sigma);
+                                 fx_q16_16_t sigma, uint64_t *dist_sq, uint32_t *units);
 
 #endif /* EGO_TRACK_H */

@@ -318,11 +318,12 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     queue.count = 0u;
     queue.dropped = 0u;
     queue.deepest = 0u;
-    lms_session_defaults(&o.session);
-    ego_loop_defaults(&o.loop);
-    /* Live, a line is due before the next scan: the sensor-rate budget, as
-     * ego_live_defaults has it (this config replaces that one's loop). */
-    ego_budget_defaults(&o.loop.ego);
+    /* The options start from the live core's defaults (its session, and
+     * its loop within the sensor-rate budget) and replace them below. */
+    ego_live_config_t config;
+    ego_live_defaults(&config);
+    o.session = config.session;
+    o.loop = config.loop;
     const int rc = parse_options(self, argc, argv, record, &o);
     if (rc == PARSED_HELP) {
         return CLI_EXIT_OK; /* --help */
@@ -349,8 +350,6 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     }
     live_catch_stop_signals();
 
-    ego_live_config_t config;
-    ego_live_defaults(&config);
     config.session = o.session;
     config.loop = o.loop;
     config.max_scans = (uint32_t)o.scans;

@@ -126,6 +126,18 @@ void ego_profile_stage(ego_stage_t stage, uint64_t units)
     units_mark = units;
 }
 
+/* One '#' line: a figure per stage. */
+static void report_stages(const char *title, const uint64_t *figures)
+{
+    static const char *const names[EGO_STAGE_COUNT] = {
+        " prepare=", " tangents=", " histogram=", " correlate=",
+        " register=", " coarse=", " other="};
+    target_uart_puts(title);
+    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
+        report_field(names[k], figures[k]);
+    }
+}
+
 static void profile_scan_end(bool worst)
 {
     for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
@@ -176,28 +188,13 @@ int main(void)
     report_field(" scans=", ego_loop_stats(&loop)->scans);
 #if defined(EGO_PROFILE)
     ego_profile_stage(EGO_STAGE_OTHER, units_mark);
-    static const char *const names[EGO_STAGE_COUNT] = {
-        " prepare=", " tangents=", " histogram=", " correlate=",
-        " register=", " coarse=", " other="};
-    target_uart_puts("\n# stage_insns");
-    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
-        report_field(names[k], stage_insns[k]);
-    }
+    report_stages("\n# stage_insns", stage_insns);
     /* The units (ego_work.h) charged in each stage, to set against them. */
-    target_uart_puts("\n# stage_units");
-    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
-        report_field(names[k], stage_units[k]);
-    }
+    report_stages("\n# stage_units", stage_units);
     /* The scan with the most instructions (its other stage includes the
      * line of the scan before and this scan's framing and decoding). */
-    target_uart_puts("\n# worst_insns");
-    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
-        report_field(names[k], worst_insns[k]);
-    }
-    target_uart_puts("\n# worst_units");
-    for (unsigned k = 0u; k < (unsigned)EGO_STAGE_COUNT; k++) {
-        report_field(names[k], worst_units[k]);
-    }
+    report_stages("\n# worst_insns", worst_insns);
+    report_stages("\n# worst_units", worst_units);
 #endif
 #if defined(TARGET_PC_SAMPLING)
     /* Where the samples fell: address of each 64-byte piece of flash and

@@ -322,8 +322,9 @@ static const char *replay(uint32_t from, uint32_t to)
     memset(&P, 0, sizeof P);
     P.bytes = replay_stream;
     P.len = len;
-    ego_loop_defaults(&config);
-    ego_budget_defaults(&config.ego); /* as the live core: `replay --budget 30e6` */
+    ego_live_config_t live;
+    ego_live_defaults(&live);
+    config = live.loop; /* the live core's: `replay --budget 30e6` */
     config.lms.meas_mode = R.scene_mode; /* `lmsego replay --mode` */
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {replay_read, replay_write, replay_now, &P};

@@ -682,6 +682,23 @@ static void sqrt_expect(uint64_t v, uint32_t expected, const char *what)
     }
 }
 
+/* fx_bits_u32 (shared by the quick arctangent and ITCP's cone) against a
+ * count by halving, at every power of two, its neighbours and all ones. */
+static void test_fx_bits_u32(void)
+{
+    for (unsigned k = 0u; k < 32u; k++) {
+        const uint32_t values[3] = {(uint32_t)1u << k, ((uint32_t)1u << k) + 1u,
+                                    (uint32_t)(((uint64_t)1u << (k + 1u)) - 1u)};
+        for (unsigned v = 0u; v < 3u; v++) {
+            unsigned expected = 0u;
+            for (uint32_t d = values[v]; d != 0u; d >>= 1) {
+                expected++;
+            }
+            TEST_ASSERT_EQUAL_UINT32(expected, fx_bits_u32(values[v]));
+        }
+    }
+}
+
 static void test_fx_sqrt_named_values(void)
 {
     TEST_ASSERT_EQUAL_UINT32(0u, fx_sqrt_u64(0u));
@@ -838,6 +855,7 @@ int main(int argc, char **argv)
     if (exhaustive) {
         RUN_TEST(test_fx_atan2_exhaustive_sweep);
     }
+    RUN_TEST(test_fx_bits_u32);
     RUN_TEST(test_fx_sqrt_named_values);
     RUN_TEST(test_fx_sqrt_all_below_2_24);
     RUN_TEST(test_fx_sqrt_squares_and_neighbours);
