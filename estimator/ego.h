@@ -82,11 +82,9 @@ typedef struct {
     ego_prep_params_t prep;
     ego_tfit_params_t tfit;      /* the search's robust tangents (tracking fits plainly) */
     ego_hist_params_t hist;      /* the search's histogram (tracking's main direction: AH) */
-    itcp_params_t itcp;          /* the search's registrations */
     ego_track_params_t track;    /* tracking: point-to-line from the prediction */
     ego_coarse_params_t coarse;  /* its window is centred on the prediction */
-    fx_q16_16_t coarse_window_first; /* window when no motion is known yet, default 4 m, */
-    fx_q16_16_t coarse_step_first;   /* searched at this step, default 0.2 m */
+    fx_q16_16_t coarse_window_first; /* window when no motion is known yet, default 4 m */
     fx_q16_16_t coarse_window_wide;  /* window when the prediction did not hold, 1.6 m */
     fx_q2_30_t accept_fraction;  /* converged with at least this share of each group as
                                     inliers: good enough, no more searching; 0.6 */
@@ -187,9 +185,9 @@ typedef struct {
     bool have_previous;      /* the time of the previous scan, for the budget */
     uint32_t previous_time_us;
     ego_work_t work;         /* this scan's meter */
-    union { /* one registration at a time */
-        ego_itcp_run_t run;         /* the search's ITCP */
-        ego_track_run_t tracking;   /* tracking, or the light search's */
+    union { /* one at a time */
+        ego_track_run_t tracking;         /* the registration, or the coarse search's prober */
+        ego_project_scratch_t projection; /* the coarse search's ranking (ego_project.h) */
     };
     ego_search_t search;
 } ego_state_t;

@@ -131,6 +131,8 @@ enum {
     PHASE_ROTATION,   /* the next rotation: score its centre */
     PHASE_COARSE,     /* its coarse grid */
     PHASE_FINE,       /* the fine grid around the coarse grid's best */
+    PHASE_PROJECT,    /* projected: rank the rotation's window */
+    PHASE_CELLS,      /* projected: the best cells' neighbourhoods */
     PHASE_DONE
 };
 
@@ -348,7 +350,32 @@ void ego_coarse_along_bearing(ego_coarse_run_t *r, ego_track_run_t *prober,
     if (r->last != NULL) {
         ego_track_probe_start(prober, r->last, params);
         r->along = prober;
+        r->along_params = params;
     }
+}
+
+void ego_coarse_projected(ego_coarse_run_t *r, ego_project_scratch_t *scratch)
+{
+    if (r->along != NULL) {
+        r->scratch = scratch;
+    }
+}
+
+/* Projected: the 3 x 3 neighbourhood of the cells, one pose at a time;
+ * false when every one was scored. */
+static bool cells_score_next(ego_coarse_run_t *r, fx_q16_16_t sigma)
+{
+    const uint32_t k = r->cell;
+    if (k >= 9u * r->cells.count) {
+        return false;
+    }
+    const int32_t ix = (int32_t)((k % 9u) / 3u) - 1;
+    const int32_t iy = (int32_t)(k % 3u) - 1;
+    const ego_pose_t *c = &r->cells.cell[k / 9u];
+    const ego_pose_t p = {c->theta, fx_add_q16(c->x, ix * r->params.step),
+                          fx_add_q16(c->y, iy * r->params.step)};
+    score_begin(r, &p, sigma, r->grid.best_score, false);
+    return true;
 }
 
 bool ego_coarse_step(ego_coarse_run_t *r, ego_work_t *work)
@@ -372,6 +399,13 @@ bool ego_coarse_step(ego_coarse_run_t *r, ego_work_t *work)
                 grid_begin(&r->grid, &r->around, p->window, p->step, coarse_sigma, &r->around,
                            r->scoring.value);
                 r->phase = PHASE_COARSE;
+                break;
+            case PHASE_CELLS:
+                if (r->scoring.value > r->grid.best_score) {
+                    r->grid.best_score = r->scoring.value;
+                    r->grid.best = r->scoring.pose;
+                }
+                r->cell++;
                 break;
             default: /* a grid point */
                 grid_take(r);
@@ -408,8 +442,35 @@ bool ego_coarse_step(ego_coarse_run_t *r, ego_work_t *work)
              * grid happens to fall. */
             r->around = r->centre;
             r->around.theta += (fx_bam32_t)((uint32_t)r->rotation * p->rotation_step);
+            if (r->scratch != NULL) {
+                r->phase = PHASE_PROJECT;
+                break;
+            }
             ego_work_spend(work, COST_POSE);
             score_begin(r, &r->around, coarse_sigma, 0u, true);
+            break;
+        case PHASE_PROJECT: {
+            const uint32_t most = ego_project_cost_max(r->last, r->current, p->window, p->step);
+            if (!ego_work_allows(work, most)) {
+                return false;
+            }
+            ego_work_spend(work, ego_project_cells(r->last, r->current, r->main_direction, &r->around,
+                                                   p->window, p->step, r->scratch, &r->cells));
+            /* The ranking overwrote the prober's cached normals. */
+            ego_track_probe_start(r->along, r->last, r->along_params);
+            grid_begin(&r->grid, &r->around, 0, p->step, coarse_sigma, &r->around, 0u);
+            r->cell = 0u;
+            r->phase = PHASE_CELLS;
+            break;
+        }
+        case PHASE_CELLS:
+            ego_work_spend(work, COST_POSE);
+            if (!cells_score_next(r, coarse_sigma)) {
+                const ego_pose_t coarse_best = r->grid.best;
+                grid_begin(&r->grid, &coarse_best, p->step, p->fine_step, p->sigma, &r->best,
+                           r->score);
+                r->phase = PHASE_FINE;
+            }
             break;
         case PHASE_COARSE:
             ego_work_spend(work, COST_POSE);

@@ -32,6 +32,7 @@
 
 #include "ego_itcp.h"
 #include "ego_pose.h"
+#include "ego_project.h"
 #include "ego_scan.h"
 #include "ego_track.h"
 #include "ego_work.h"
@@ -112,6 +113,10 @@ typedef struct {
     ego_coarse_score_t scoring;
     ego_coarse_grid_t grid;
     ego_track_run_t *along; /* probes along the bearing (or NULL: ITCP's) */
+    const ego_track_params_t *along_params;
+    ego_project_scratch_t *scratch; /* projected (ego_coarse_projected), or NULL */
+    ego_project_cells_t cells;
+    uint8_t cell;           /* the next of cells' 3 x 3 neighbourhoods to score */
 } ego_coarse_run_t;
 
 void ego_coarse_start(ego_coarse_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
@@ -125,6 +130,14 @@ bool ego_coarse_step(ego_coarse_run_t *run, ego_work_t *work);
  * stay untouched until the run is finished. */
 void ego_coarse_along_bearing(ego_coarse_run_t *run, ego_track_run_t *prober,
                               const ego_track_params_t *params);
+/* After ego_coarse_along_bearing: rank each rotation's window by
+ * projections (ego_project.h) and score exactly only the 3 x 3
+ * neighbourhoods (at step) of its best EGO_PROJECT_CELLS cells, then the
+ * fine grid around the best as before, instead of every cell of the
+ * window (window up to EGO_PROJECT_MAX_SIDE steps each side; the centre is
+ * not scored on its own). scratch is the prober's memory (a union,
+ * ego.h): the run starts the prober again after each ranking. */
+void ego_coarse_projected(ego_coarse_run_t *run, ego_project_scratch_t *scratch);
 void ego_coarse_result(const ego_coarse_run_t *run, ego_pose_t *best, uint64_t *score);
 
 /* Searches around *centre; *best gets the best pose, *score its score

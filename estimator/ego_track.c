@@ -43,6 +43,7 @@ void ego_track_defaults(ego_track_params_t *params)
     params->main_tolerance = FX_BAM32_DEG_C(10.0);
     params->aperture_ratio = (fx_q2_30_t)(FX_Q2_30_ONE / 5);
     params->min_matches = 10u;
+    params->weighted = true;
 }
 
 static int64_t abs64(int64_t v)
@@ -371,6 +372,11 @@ static int64_t div_q16(int64_t num, int64_t den)
     return (num * 65536) / den;
 }
 
+static int64_t matches(const ego_track_run_t *run)
+{
+    return run->group[0].n + run->group[1].n;
+}
+
 /* The step (dx, dy, dtheta) from the pass's normal equations: each group's
  * means, the groups averaged (eq. 10's equal weights), in Q14, damped; false
  * when there is nothing to solve. */
@@ -379,17 +385,29 @@ EGO_NOINLINE static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t 
     int64_t a[6] = {0, 0, 0, 0, 0, 0};
     int64_t b[3] = {0, 0, 0};
     int64_t groups = 0;
-    for (unsigned k = 0u; k < 2u; k++) {
-        const ego_track_sums_t *g = &run->group[k];
-        if (g->n <= 0) {
-            continue;
+    if (run->params->weighted) {
+        for (unsigned k = 0u; k < 2u; k++) {
+            const ego_track_sums_t *g = &run->group[k];
+            if (g->n <= 0) {
+                continue;
+            }
+            groups++;
+            for (unsigned m = 0u; m < 6u; m++) {
+                a[m] += g->a[m] / g->n;
+            }
+            for (unsigned m = 0u; m < 3u; m++) {
+                b[m] += g->b[m] / g->n;
+            }
         }
-        groups++;
+    } else if (matches(run) > 0) {
+        /* Plain ICP: one pool, every match alike. */
+        const int64_t n = matches(run);
+        groups = 1;
         for (unsigned m = 0u; m < 6u; m++) {
-            a[m] += g->a[m] / g->n;
+            a[m] = (run->group[0].a[m] + run->group[1].a[m]) / n;
         }
         for (unsigned m = 0u; m < 3u; m++) {
-            b[m] += g->b[m] / g->n;
+            b[m] = (run->group[0].b[m] + run->group[1].b[m]) / n;
         }
     }
     if (groups == 0) {
@@ -429,11 +447,6 @@ EGO_NOINLINE static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t 
     *dy = div_q16(c01 * b0 + c11 * b1 + c12 * b2, det);
     *dtheta = div_q16(c02 * b0 + c12 * b1 + c22 * b2, det); /* Q16.16 rad */
     return true;
-}
-
-static int64_t matches(const ego_track_run_t *run)
-{
-    return run->group[0].n + run->group[1].n;
 }
 
 /* The end of a pass: the step, convergence, the next pass or the end. */

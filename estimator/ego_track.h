@@ -52,6 +52,8 @@ typedef struct {
                                          main group; 10 deg (as ITCP's) */
     fx_q2_30_t aperture_ratio;        /* n_non / n_main below: aperture; 0.2 */
     uint16_t min_matches;             /* fewer: the registration fails; 10 */
+    bool weighted;                    /* the groups weigh equally (eq. 10); false: every
+                                         match alike, plain ICP for comparison; true */
 } ego_track_params_t;
 
 void ego_track_defaults(ego_track_params_t *params);

@@ -319,7 +319,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             }
             i++;
         } else if (strcmp(arg, "--icp") == 0) {
-            config.ego.itcp.weighted = false; /* plain ICP, for comparison */
+            config.ego.track.weighted = false; /* plain ICP, for comparison */
         } else if (strcmp(arg, "--hist") == 0) {
             if (value == NULL || parse_hist(value, &config.ego.hist.kind) != 0) {
                 return cli_usage_error(self, "invalid --hist", value, "AH, LAH, HAH or HTAH");

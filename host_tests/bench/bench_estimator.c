@@ -95,7 +95,7 @@ int main(int argc, char **argv)
     const char *path = NULL;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--icp") == 0) {
-            params.itcp.weighted = false;
+            params.track.weighted = false;
         } else if (strcmp(argv[i], "--trace") == 0) {
             trace = 1;
         } else if (strcmp(argv[i], "--budget") == 0 && i + 1 < argc) {
@@ -129,7 +129,7 @@ int main(int argc, char **argv)
     }
     const unsigned long iterations = bench_process_all(&params, n, !once);
     (void)printf("scans=%zu values=%u mode=%s iterations_mean=%.2f\n", n, scans[0].count,
-                 params.itcp.weighted ? "ITCP" : "ICP", (double)iterations / (double)(n - 1u));
+                 params.track.weighted ? "ITCP" : "ICP", (double)iterations / (double)(n - 1u));
     /* Scan 0 (the first: its preparation only) is nobody's budget. */
     qsort(units + 1, n - 1u, sizeof units[0], cmp_double);
     (void)printf("work per scan: median %.0f  max %.0f units, at most %.1f %% of a budget\n",

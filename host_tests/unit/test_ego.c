@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "ego_coarse.h"
+#include "ego_tfit.h"
 #include "ego.h"
 #include "fx_host.h"
 #include "synth_scan.h"
@@ -113,6 +114,55 @@ static void test_coarse_search_along_the_bearing(void)
     TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best[1].x) - 1.3) <= 0.11, msg);
     TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best[1].y) + 0.9) <= 0.11, msg);
     TEST_ASSERT_TRUE_MESSAGE(3u * spent[1] <= spent[0], msg);
+}
+
+/* The full search's coarse search: the window ranked by projections
+ * (ego_project.h), only the best cells' neighbourhoods scored exactly,
+ * against every cell of the window: the same pose within the fine step,
+ * for a fifth of the work or less. */
+static void test_coarse_search_projected(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(1.3, -0.9, 0.0, &g_current);
+    ego_tfit_chord_scan(&g_last);
+    ego_tfit_chord_scan(&g_current);
+    ego_coarse_params_t p; /* the full search's wide window (ego.c) */
+    ego_coarse_defaults(&p);
+    p.window = FX_Q16_16_C(1.6);
+    p.rotation_steps = 0u;
+    ego_track_params_t tp;
+    ego_track_defaults(&tp);
+    const ego_pose_t centre = {0u, 0, 0};
+    uint64_t spent[2] = {0u, 0u};
+    ego_pose_t best[2];
+    for (unsigned projected = 0u; projected < 2u; projected++) {
+        static ego_coarse_run_t run;
+        static union {
+            ego_track_run_t prober;
+            ego_project_scratch_t scratch;
+        } shared;
+        ego_coarse_start(&run, &g_last, &g_current, 0u, &centre, &p);
+        ego_coarse_along_bearing(&run, &shared.prober, &tp);
+        if (projected != 0u) {
+            ego_coarse_projected(&run, &shared.scratch);
+        }
+        ego_work_t work;
+        ego_work_start(&work, EGO_WORK_UNLIMITED);
+        TEST_ASSERT_TRUE(ego_coarse_step(&run, &work));
+        uint64_t score = 0u;
+        ego_coarse_result(&run, &best[projected], &score);
+        TEST_ASSERT_TRUE(score > 0u);
+        spent[projected] = work.used;
+    }
+    char msg[128];
+    (void)snprintf(msg, sizeof msg, "found (%.3f, %.3f), work %llu against %llu",
+                   fx_q16_16_to_double(best[1].x), fx_q16_16_to_double(best[1].y),
+                   (unsigned long long)spent[1], (unsigned long long)spent[0]);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best[1].x) - 1.3) <= 0.06, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(best[1].y) + 0.9) <= 0.06, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(best[0].x, best[1].x, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(best[0].y, best[1].y, msg);
+    TEST_ASSERT_TRUE_MESSAGE(5u * spent[1] <= spent[0], msg);
 }
 
 static void test_coarse_search_corrects_a_small_rotation(void)
@@ -461,6 +511,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_coarse_search_finds_a_large_translation);
     RUN_TEST(test_coarse_search_along_the_bearing);
+    RUN_TEST(test_coarse_search_projected);
     RUN_TEST(test_coarse_search_corrects_a_small_rotation);
     RUN_TEST(test_coarse_search_without_points_keeps_the_centre);
     RUN_TEST(test_ego_first_scan_then_motion_and_velocities);

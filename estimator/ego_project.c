@@ -1,0 +1,234 @@
+/* ego_project.c - see ego_project.h. */
+#include "ego_project.h"
+
+#include <stdbool.h>
+#include <string.h>
+
+#include "ego_fx_math.h"
+#include "ego_work.h"
+
+#define BIN_MASK (EGO_PROJECT_BINS - 1u)
+
+/* A point whose tangent lies within this of the direction is on a surface
+ * along it: it says nothing about a motion along it. */
+#define ALONG_TOLERANCE FX_BAM32_DEG_C(30.0)
+
+/* Cells closer than this (in cells, either axis) to a better one are the
+ * same candidate. */
+#define SAME_CELL 2
+
+int32_t ego_project_side(fx_q16_16_t window, fx_q16_16_t bin)
+{
+    if (bin <= 0 || window <= 0) {
+        return 0;
+    }
+    /* To the nearest cell: 1.6 m at 0.1 m is 16 cells, though the Q16.16
+     * values of 0.1 (rounded up) make 1.6 / 0.1 = 15.99. */
+    const int32_t n = (int32_t)(((int64_t)window + bin / 2) / bin);
+    return (n > EGO_PROJECT_MAX_SIDE) ? EGO_PROJECT_MAX_SIDE : n;
+}
+
+/* Shifts on each side that a window of n cells reaches along any
+ * direction: n (|cos| + |sin|) <= sqrt(2) n < 1.4375 n, plus one for
+ * rounding. */
+static int32_t shifts_of(int32_t n)
+{
+    return n + (7 * n + 15) / 16 + 1;
+}
+
+uint32_t ego_project_cost_max(const ego_scan_t *last, const ego_scan_t *current,
+                              fx_q16_16_t window, fx_q16_16_t bin)
+{
+    const int32_t n = ego_project_side(window, bin);
+    const uint32_t shifts = 2u * (uint32_t)shifts_of(n) + 1u;
+    const uint32_t filled = (current->count < EGO_PROJECT_BINS) ? current->count : EGO_PROJECT_BINS;
+    const uint32_t cells = (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u);
+    const uint32_t per_dir = ((uint32_t)last->count + current->count) * EGO_COST_PROJECT_POINT +
+                             2u * EGO_PROJECT_BINS * EGO_COST_PROJECT_BIN +
+                             filled * shifts * EGO_COST_PROJECT_PRODUCT;
+    return EGO_PROJECT_DIRS * per_dir + cells * EGO_COST_PROJECT_CELL;
+}
+
+/* floor(p / bin) for bin > 0. */
+static int32_t floor_div(int32_t p, int32_t bin)
+{
+    const int32_t q = p / bin;
+    return (p % bin != 0 && p < 0) ? q - 1 : q;
+}
+
+static void add_saturated(uint8_t *h, int32_t b, uint32_t v)
+{
+    const uint32_t i = (uint32_t)b & BIN_MASK;
+    const uint32_t sum = h[i] + v;
+    h[i] = (uint8_t)((sum > 255u) ? 255u : sum);
+}
+
+/* Does point i of scan s count along direction dir (its tangent turned by
+ * turn): no tangent, or one at least ALONG_TOLERANCE from dir. */
+static bool faces(const ego_scan_t *s, uint16_t i, fx_bam32_t turn, fx_bam32_t dir)
+{
+    return (s->flags[i] & EGO_POINT_HAS_TANGENT) == 0u ||
+           fx_line_angle_diff(s->tangent[i] + turn, dir) >= ALONG_TOLERANCE;
+}
+
+/* Direction k's correlation of the two histograms over shifts -m..m around
+ * the window centre's bin, scaled to Q0.16 of its maximum; its units. */
+static uint32_t correlate_direction(const ego_scan_t *last, const ego_scan_t *current,
+                                    const ego_pose_t *around, fx_bam32_t dir, fx_q16_16_t bin,
+                                    int32_t m, ego_project_scratch_t *w, unsigned k)
+{
+    fx_q2_30_t s = 0;
+    fx_q2_30_t c = 0;
+    fx_sincos(dir, &s, &c);
+    fx_q2_30_t rs = 0;
+    fx_q2_30_t rc = 0;
+    fx_sincos(around->theta, &rs, &rc);
+    memset(w->last, 0, sizeof w->last);
+    memset(w->current, 0, sizeof w->current);
+    /* The last scan's bins spread over their neighbours (2, 1, 1): a
+     * current point a fraction of a bin off still meets its surface. */
+    for (uint16_t i = 0u; i < last->count; i++) {
+        if (faces(last, i, 0u, dir)) {
+            const int64_t p = ((int64_t)last->x[i] * c + (int64_t)last->y[i] * s) >> 30;
+            const int32_t b = floor_div((int32_t)p, bin);
+            add_saturated(w->last, b, 2u);
+            add_saturated(w->last, b - 1, 1u);
+            add_saturated(w->last, b + 1, 1u);
+        }
+    }
+    const ego_pose_t turn = {around->theta, 0, 0};
+    for (uint16_t i = 0u; i < current->count; i++) {
+        if (faces(current, i, around->theta, dir)) {
+            fx_q16_16_t qx = 0;
+            fx_q16_16_t qy = 0;
+            ego_pose_apply(&turn, rs, rc, current->x[i], current->y[i], &qx, &qy);
+            const int64_t p = ((int64_t)qx * c + (int64_t)qy * s) >> 30;
+            add_saturated(w->current, floor_div((int32_t)p, bin), 1u);
+        }
+    }
+    /* The centre's shift, rounded to the nearest bin. */
+    const int64_t a = ((int64_t)around->x * c + (int64_t)around->y * s) >> 30;
+    const int32_t centre = floor_div((int32_t)(a + bin / 2), bin);
+    w->centre[k] = centre;
+    const uint32_t shifts = 2u * (uint32_t)m + 1u;
+    memset(w->sum, 0, sizeof w->sum);
+    uint32_t filled = 0u;
+    for (uint32_t b = 0u; b < EGO_PROJECT_BINS; b++) {
+        const uint32_t h = w->current[b];
+        if (h == 0u) {
+            continue;
+        }
+        filled++;
+        const uint32_t first = b + (uint32_t)(centre - m);
+        for (uint32_t j = 0u; j < shifts; j++) {
+            w->sum[j] += h * w->last[(first + j) & BIN_MASK];
+        }
+    }
+    uint32_t top = 0u;
+    for (uint32_t j = 0u; j < shifts; j++) {
+        top = (w->sum[j] > top) ? w->sum[j] : top;
+    }
+    for (uint32_t j = 0u; j < shifts; j++) {
+        w->corr[k][j] = (top == 0u) ? 0u : (uint16_t)(((uint64_t)w->sum[j] * 65535u) / top);
+    }
+    return ((uint32_t)last->count + current->count) * EGO_COST_PROJECT_POINT +
+           2u * EGO_PROJECT_BINS * EGO_COST_PROJECT_BIN + filled * shifts * EGO_COST_PROJECT_PRODUCT;
+}
+
+/* Keeps cell (ix, iy) of score v among the best, at most one per
+ * neighbourhood (SAME_CELL): a better cell nearby keeps it out, a worse
+ * one nearby makes way. score[] runs parallel to out->cell[]. */
+static void keep_best(ego_project_cells_t *out, uint64_t *score, int32_t *at, int32_t ix,
+                      int32_t iy, uint64_t v, const ego_pose_t *pose)
+{
+    unsigned k = 0u;
+    while (k < out->count) {
+        const int32_t dx = at[2u * k] - ix;
+        const int32_t dy = at[2u * k + 1u] - iy;
+        const bool near = dx >= -SAME_CELL && dx <= SAME_CELL && dy >= -SAME_CELL && dy <= SAME_CELL;
+        if (!near) {
+            k++;
+            continue;
+        }
+        if (score[k] >= v) {
+            return;
+        }
+        for (unsigned q = k; q + 1u < out->count; q++) { /* remove k */
+            score[q] = score[q + 1u];
+            out->cell[q] = out->cell[q + 1u];
+            at[2u * q] = at[2u * q + 2u];
+            at[2u * q + 1u] = at[2u * q + 3u];
+        }
+        out->count--;
+    }
+    unsigned place = out->count;
+    while (place > 0u && score[place - 1u] < v) {
+        place--;
+    }
+    if (place >= EGO_PROJECT_CELLS) {
+        return;
+    }
+    const unsigned end = (out->count < EGO_PROJECT_CELLS) ? out->count : EGO_PROJECT_CELLS - 1u;
+    for (unsigned q = end; q > place; q--) {
+        score[q] = score[q - 1u];
+        out->cell[q] = out->cell[q - 1u];
+        at[2u * q] = at[2u * q - 2u];
+        at[2u * q + 1u] = at[2u * q - 1u];
+    }
+    score[place] = v;
+    out->cell[place] = *pose;
+    at[2u * place] = ix;
+    at[2u * place + 1u] = iy;
+    if (out->count < EGO_PROJECT_CELLS) {
+        out->count++;
+    }
+}
+
+uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
+                           fx_bam32_t main_direction, const ego_pose_t *around,
+                           fx_q16_16_t window, fx_q16_16_t bin, ego_project_scratch_t *scratch,
+                           ego_project_cells_t *out)
+{
+    out->count = 0u;
+    const int32_t n = ego_project_side(window, bin);
+    if (n == 0) {
+        return 0u;
+    }
+    const int32_t m = shifts_of(n);
+    uint32_t units = 0u;
+    /* Per direction: its unit vector in Q2.30 bins per bin of motion. */
+    fx_q2_30_t s[EGO_PROJECT_DIRS];
+    fx_q2_30_t c[EGO_PROJECT_DIRS];
+    for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
+        const fx_bam32_t dir = main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS));
+        units += correlate_direction(last, current, around, dir, bin, m, scratch, k);
+        fx_sincos(dir, &s[k], &c[k]);
+    }
+    uint64_t score[EGO_PROJECT_CELLS];
+    int32_t at[2u * EGO_PROJECT_CELLS];
+    /* Cell (ix, iy) is the translation around + (ix, iy) bin: its
+     * projection on direction k, in bins (Q2.30), is base[k] + ix c[k] +
+     * iy s[k], base[k] the centre's own. */
+    int64_t base[EGO_PROJECT_DIRS];
+    for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
+        /* Q16.16 m times Q2.30: 46 fraction bits; over Q16.16 m: Q.30 bins. */
+        base[k] = ((int64_t)around->x * c[k] + (int64_t)around->y * s[k]) / bin;
+    }
+    for (int32_t ix = -n; ix <= n; ix++) {
+        for (int32_t iy = -n; iy <= n; iy++) {
+            uint64_t v = 0u;
+            for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
+                const int64_t p = base[k] + (int64_t)ix * c[k] + (int64_t)iy * s[k];
+                const int64_t j = ((p + (INT64_C(1) << 29)) >> 30) - scratch->centre[k];
+                if (j >= -m && j <= m) {
+                    v += scratch->corr[k][j + m];
+                }
+            }
+            const ego_pose_t pose = {around->theta, fx_add_q16(around->x, ix * bin),
+                                     fx_add_q16(around->y, iy * bin)};
+            keep_best(out, score, at, ix, iy, v, &pose);
+        }
+    }
+    const uint32_t cells = (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u);
+    return units + cells * EGO_COST_PROJECT_CELL;
+}
