@@ -451,6 +451,8 @@ static ego_coarse_params_t coarse_pass(const ego_search_t *se, const ego_params_
         cp.sample_points = LIGHT_SAMPLE_POINTS;
         cp.step = (first ? 4 : 2) * cp.step;
         cp.fine_step = 2 * cp.fine_step;
+    } else if (first) {
+        cp.step = 2 * cp.step; /* 4 m in EGO_PROJECT_MAX_SIDE steps */
     }
     return cp;
 }
@@ -663,6 +665,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 }
                 ego_coarse_params_t cp = params->coarse;
                 cp.window = se->known_motion ? params->coarse_window_wide : params->coarse_window_first;
+                cp.step = se->known_motion ? cp.step : 2 * cp.step; /* as coarse_pass */
                 cp.rotation_steps = params->sweep_steps;
                 cp.rotation_step = params->sweep_step;
                 attempt_begin(state, params, &se->predicted, true, &cp);
@@ -976,12 +979,24 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const e
     return ego_process_with_prior(state, params, scan, time_us, NULL, out);
 }
 
+/* The full search when its scan's budget ends: anytime, its best so far
+ * answers if it fits with half the accept share over both groups (the
+ * light search's finish rule; flagged EGO_FLAG_NOT_CONVERGED when it did
+ * not converge) rather than costing the next scans: on keyframes a search
+ * that runs on drops the next scan, and the interval after it is twice as
+ * long (docs/estimator.md). */
+static bool answers_now(const ego_params_t *params, const ego_search_t *se)
+{
+    return !se->light && se->best_status == EGO_ITCP_OK &&
+           balanced_share(&se->best) >= params->accept_fraction / 2;
+}
+
 /* A scan while a search runs: it is not prepared (both slots belong to the
  * search), its budget goes to the search. */
 static void continue_search(ego_state_t *state, const ego_params_t *params, ego_output_t *out)
 {
     state->search.scans++;
-    if (search_run(state, params)) {
+    if (search_run(state, params) || answers_now(params, &state->search)) {
         finish_search(state, params, true, out);
         return;
     }
@@ -1070,7 +1085,7 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         state->search.stage = SEARCH_TRACKING;
     }
     state->search.scans = 1u;
-    if (search_run(state, params)) {
+    if (search_run(state, params) || answers_now(params, &state->search)) {
         finish_search(state, params, false, out);
     } else {
         out->flags = EGO_FLAG_RECOVERING;

@@ -111,7 +111,8 @@ static uint32_t correlate_direction(const ego_scan_t *last, const ego_scan_t *cu
     const int32_t centre = floor_div((int32_t)(a + bin / 2), bin);
     w->centre[k] = centre;
     const uint32_t shifts = 2u * (uint32_t)m + 1u;
-    memset(w->sum, 0, sizeof w->sum);
+    uint32_t sum[2 * EGO_PROJECT_MAX_SHIFT + 1];
+    memset(sum, 0, sizeof sum);
     uint32_t filled = 0u;
     for (uint32_t b = 0u; b < EGO_PROJECT_BINS; b++) {
         const uint32_t h = w->current[b];
@@ -121,15 +122,18 @@ static uint32_t correlate_direction(const ego_scan_t *last, const ego_scan_t *cu
         filled++;
         const uint32_t first = b + (uint32_t)(centre - m);
         for (uint32_t j = 0u; j < shifts; j++) {
-            w->sum[j] += h * w->last[(first + j) & BIN_MASK];
+            sum[j] += h * w->last[(first + j) & BIN_MASK];
         }
     }
     uint32_t top = 0u;
     for (uint32_t j = 0u; j < shifts; j++) {
-        top = (w->sum[j] > top) ? w->sum[j] : top;
+        top = (sum[j] > top) ? sum[j] : top;
     }
+    /* Scaled by one reciprocal (Q16: top < 2^25), not a division each. */
+    const uint64_t scale = (top == 0u) ? 0u : ((uint64_t)65535u << 16) / top;
     for (uint32_t j = 0u; j < shifts; j++) {
-        w->corr[k][j] = (top == 0u) ? 0u : (uint16_t)(((uint64_t)w->sum[j] * 65535u) / top);
+        const uint64_t v = ((uint64_t)sum[j] * scale) >> 16;
+        w->corr[k][j] = (uint16_t)((v > 65535u) ? 65535u : v);
     }
     return ((uint32_t)last->count + current->count) * EGO_COST_PROJECT_POINT +
            2u * EGO_PROJECT_BINS * EGO_COST_PROJECT_BIN + filled * shifts * EGO_COST_PROJECT_PRODUCT;
@@ -215,18 +219,27 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
         base[k] = ((int64_t)around->x * c[k] + (int64_t)around->y * s[k]) / bin;
     }
     for (int32_t ix = -n; ix <= n; ix++) {
+        /* Down a column each step adds s[k]: no multiplication per cell. */
+        int64_t p[EGO_PROJECT_DIRS];
+        for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
+            p[k] = base[k] + (int64_t)ix * c[k] - (int64_t)n * s[k];
+        }
         for (int32_t iy = -n; iy <= n; iy++) {
             uint64_t v = 0u;
             for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
-                const int64_t p = base[k] + (int64_t)ix * c[k] + (int64_t)iy * s[k];
-                const int64_t j = ((p + (INT64_C(1) << 29)) >> 30) - scratch->centre[k];
+                const int64_t j = ((p[k] + (INT64_C(1) << 29)) >> 30) - scratch->centre[k];
                 if (j >= -m && j <= m) {
                     v += scratch->corr[k][j + m];
                 }
+                p[k] += s[k];
             }
-            const ego_pose_t pose = {around->theta, fx_add_q16(around->x, ix * bin),
-                                     fx_add_q16(around->y, iy * bin)};
-            keep_best(out, score, at, ix, iy, v, &pose);
+            /* A full list whose worst is at least v has no room for it,
+             * nor a worse neighbour to replace. */
+            if (out->count < EGO_PROJECT_CELLS || v > score[EGO_PROJECT_CELLS - 1u]) {
+                const ego_pose_t pose = {around->theta, fx_add_q16(around->x, ix * bin),
+                                         fx_add_q16(around->y, iy * bin)};
+                keep_best(out, score, at, ix, iy, v, &pose);
+            }
         }
     }
     const uint32_t cells = (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u);

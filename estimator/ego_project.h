@@ -18,7 +18,8 @@
  * Cost: per direction, a pass over both scans' points and the products of
  * the current histogram's filled bins with each shift; then 4 look-ups per
  * cell. A window of 1.6 m at 0.1 m (33 x 33 cells) costs about 0.3-0.7 M
- * units where the exact score of every cell costs 10-30 M.
+ * units where the exact score of every cell costs 10-30 M. Memory: 1.5 KB
+ * of scratch, no more than the tracking run it shares a union with.
  *
  * Fixed point: projections Q16.16 m, bin indices int32 (wrapping modulo
  * EGO_PROJECT_BINS: points a multiple of 51.2 m apart at 0.1 m share bins,
@@ -36,8 +37,9 @@
 
 #define EGO_PROJECT_DIRS 4u
 #define EGO_PROJECT_BINS 512u       /* a power of two: bins wrap with a mask */
-#define EGO_PROJECT_MAX_SIDE 40     /* cells on each side of the centre: 4 m at 0.1 m */
-#define EGO_PROJECT_MAX_SHIFT 60    /* >= sqrt(2) EGO_PROJECT_MAX_SIDE + 1 */
+#define EGO_PROJECT_MAX_SIDE 20     /* cells on each side of the centre: 4 m at 0.2 m
+                                       (as the coarse grid's own cap) */
+#define EGO_PROJECT_MAX_SHIFT 30    /* >= sqrt(2) EGO_PROJECT_MAX_SIDE + 1 */
 #define EGO_PROJECT_CELLS 6u
 
 /* Working memory of one call, owned by the caller (ego.h keeps it where
@@ -45,7 +47,6 @@
 typedef struct {
     uint8_t last[EGO_PROJECT_BINS];
     uint8_t current[EGO_PROJECT_BINS];
-    uint32_t sum[2 * EGO_PROJECT_MAX_SHIFT + 1];
     uint16_t corr[EGO_PROJECT_DIRS][2 * EGO_PROJECT_MAX_SHIFT + 1]; /* Q0.16 of the maximum */
     int32_t centre[EGO_PROJECT_DIRS]; /* bin of the window centre's projection */
 } ego_project_scratch_t;

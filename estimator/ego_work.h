@@ -43,10 +43,10 @@ typedef struct {
                                             once a run; a free-space test) */
 #define EGO_COST_TRACK_PROBE 220u        /* a coarse probe along the bearing, beyond its walk,
                                             segments and roots (ego_track_probe) */
-#define EGO_COST_PROJECT_POINT 110u     /* ego_project.c, per point and direction ... */
+#define EGO_COST_PROJECT_POINT 70u      /* ego_project.c, per point and direction ... */
 #define EGO_COST_PROJECT_BIN 8u          /* ... per histogram bin and direction ... */
-#define EGO_COST_PROJECT_PRODUCT 9u      /* ... per filled bin and shift ... */
-#define EGO_COST_PROJECT_CELL 90u        /* ... and per window cell ranked */
+#define EGO_COST_PROJECT_PRODUCT 14u     /* ... per filled bin and shift ... */
+#define EGO_COST_PROJECT_CELL 280u       /* ... and per window cell ranked */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_SCAN 30000u             /* per scan: bookkeeping, choosing, the output */
 

@@ -159,6 +159,9 @@ int main(void)
 #if defined(REPLAY_BUDGET)
     ego_budget_defaults(&config.ego);
 #endif
+#if defined(REPLAY_PERIOD_US)
+    config.period_us = REPLAY_PERIOD_US; /* keyframes: seconds apart */
+#endif
     config.observer = observe;
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, NULL};

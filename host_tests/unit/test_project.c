@@ -48,14 +48,14 @@ static double metres(fx_q16_16_t v)
 /* Ranks the window around (cx, cy) for the rotation theta_deg and checks
  * the best cell is within one bin of (tx, ty). */
 static void check_finds(double tx, double ty, double theta_deg, double cx, double cy,
-                        double window)
+                        double window, double bin_m)
 {
     prepared(0.0, 0.0, 0.0, &g_last);
     prepared(tx, ty, theta_deg, &g_current);
     const ego_pose_t around = {(fx_bam32_t)(int32_t)llround(theta_deg / 360.0 * 4294967296.0),
                                (fx_q16_16_t)llround(cx * 65536.0), (fx_q16_16_t)llround(cy * 65536.0)};
     ego_project_cells_t cells;
-    const fx_q16_16_t bin = FX_Q16_16_C(0.1);
+    const fx_q16_16_t bin = (fx_q16_16_t)llround(bin_m * 65536.0);
     const fx_q16_16_t win = (fx_q16_16_t)llround(window * 65536.0);
     const uint32_t units = ego_project_cells(&g_last, &g_current, 0u, &around, win, bin, &g_scratch,
                                              &cells);
@@ -65,8 +65,8 @@ static void check_finds(double tx, double ty, double theta_deg, double cx, doubl
                    (unsigned)units,
                    (unsigned)ego_project_cost_max(&g_last, &g_current, win, bin));
     TEST_ASSERT_EQUAL_UINT_MESSAGE(EGO_PROJECT_CELLS, cells.count, msg);
-    TEST_ASSERT_TRUE_MESSAGE(fabs(metres(cells.cell[0].x) - tx) <= 0.1 + 1e-6, msg);
-    TEST_ASSERT_TRUE_MESSAGE(fabs(metres(cells.cell[0].y) - ty) <= 0.1 + 1e-6, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(metres(cells.cell[0].x) - tx) <= bin_m + 1e-4, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(metres(cells.cell[0].y) - ty) <= bin_m + 1e-4, msg);
     TEST_ASSERT_EQUAL_UINT32_MESSAGE(around.theta, cells.cell[0].theta, msg);
     TEST_ASSERT_TRUE_MESSAGE(units > 0u, msg);
     TEST_ASSERT_TRUE_MESSAGE(units <= ego_project_cost_max(&g_last, &g_current, win, bin), msg);
@@ -74,21 +74,21 @@ static void check_finds(double tx, double ty, double theta_deg, double cx, doubl
 
 static void test_projection_finds_a_translation_in_the_wide_window(void)
 {
-    check_finds(1.3, -0.9, 0.0, 0.0, 0.0, 1.6);
-    check_finds(-0.7, 0.45, 12.0, 0.0, 0.0, 1.6);
+    check_finds(1.3, -0.9, 0.0, 0.0, 0.0, 1.6, 0.1);
+    check_finds(-0.7, 0.45, 12.0, 0.0, 0.0, 1.6, 0.1);
 }
 
 static void test_projection_finds_a_translation_in_the_first_window(void)
 {
-    /* 4 m: the window when no motion is known (40 cells each side). */
-    check_finds(2.4, 1.1, 25.0, 0.0, 0.0, 4.0);
-    check_finds(-3.1, -2.2, -8.0, 0.0, 0.0, 4.0);
+    /* 4 m at 0.2 m: the window when no motion is known (20 cells each side). */
+    check_finds(2.4, 1.1, 25.0, 0.0, 0.0, 4.0, 0.2);
+    check_finds(-3.1, -2.2, -8.0, 0.0, 0.0, 4.0, 0.2);
 }
 
 static void test_projection_window_off_centre(void)
 {
     /* The window centred on a prediction 0.8 m off the truth. */
-    check_finds(1.0, 0.2, 5.0, 0.4, -0.4, 1.6);
+    check_finds(1.0, 0.2, 5.0, 0.4, -0.4, 1.6, 0.1);
 }
 
 /* Every cell's oracle score: the fixed-point best is the oracle's best (or
@@ -101,7 +101,7 @@ static void test_projection_against_the_double_oracle(void)
         /* tx, ty, theta deg, cx, cy, window */
         {1.3, -0.9, 0.0, 0.0, 0.0, 1.6},
         {0.6, 0.3, 20.0, 0.2, 0.1, 1.0},
-        {-2.0, 1.5, -15.0, 0.0, 0.0, 4.0},
+        {-1.6, 1.2, -15.0, 0.0, 0.0, 2.0},
         {0.05, 0.0, 1.0, 0.0, 0.0, 0.6},
     };
     for (unsigned c = 0u; c < sizeof cases / sizeof cases[0]; c++) {
@@ -171,6 +171,7 @@ static void test_projection_of_nothing(void)
     TEST_ASSERT_EQUAL_INT32(-10 * FX_Q16_16_C(0.1), cells.cell[0].y);
     /* A window wider than the cap is ranked over the cap. */
     TEST_ASSERT_EQUAL_INT32(EGO_PROJECT_MAX_SIDE, ego_project_side(FX_Q16_16_C(9.0), FX_Q16_16_C(0.1)));
+    TEST_ASSERT_EQUAL_INT32(EGO_PROJECT_MAX_SIDE, ego_project_side(FX_Q16_16_C(4.0), FX_Q16_16_C(0.2)));
 }
 
 int main(void)
