@@ -828,10 +828,11 @@ static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uin
 }
 
 /* Does this scan's budget pay for the full search (robust tangents, HTAH,
- * ITCP's two stages, every coarse pass: up to some tens of millions of
- * units on hard pairs) within a few scans? Below AMPLE_WORK (0.33 s of
- * scan interval at the default rate) the light one runs: chord tangents,
- * AH, tracking registrations, lean coarse passes. */
+ * every rotation's window ranked by projections, the sweep: a median of
+ * about 20 M units on the real logs' keyframes, up to some hundred
+ * million on hard pairs)? Below AMPLE_WORK (0.33 s of scan interval at the
+ * default rate) the light one runs: chord tangents, AH, lean coarse passes
+ * on the candidate's rotation only. */
 #define AMPLE_WORK 10000000u
 
 static bool ample(const ego_state_t *state)

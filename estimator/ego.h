@@ -14,12 +14,15 @@
  *     scans' direction histograms (ego_hist_turn_guess);
  *  3. otherwise search, anytime, against the last scan: robust tangents
  *     and HTAH for both scans, the histogram correlation's rotation
- *     candidates, for each candidate ITCP with the rotation held then free
- *     (the paper's two stages) from the prediction, the coarse translation
- *     search (ego_coarse.h) around it and over a wide window when that is
- *     not good enough, and a rotation sweep when no candidate fits. The
- *     candidate with the largest balanced inlier share wins (a candidate
- *     replacing the prior's rotation needs prior_margin more).
+ *     candidates, for each candidate the tracking registration from the
+ *     prediction, then the coarse translation search (ego_coarse.h) over
+ *     the wide window (the first window when no motion is known; around a
+ *     prior its small window), ranked by projections (ego_project.h), and
+ *     the registration from its best; a rotation sweep when no candidate
+ *     fits even loosely. The candidate with the largest balanced inlier
+ *     share wins (a candidate replacing the prior's rotation needs
+ *     prior_margin more). When the scan's budget ends, a best with half
+ *     the accept share answers (anytime).
  *     Inlier share: per current point max(0, 1 - d^2 / inlier_distance^2),
  *     averaged per group (tangent on the main direction, or not), and the
  *     two groups weighted equally as in eq. 10. A group under a fifth of
@@ -69,7 +72,7 @@
 /* Output flags. */
 #define EGO_FLAG_FIRST 0x01u           /* first scan, reset or gap: no motion */
 #define EGO_FLAG_APERTURE 0x02u        /* n_non / n_main small: a corridor */
-#define EGO_FLAG_NOT_CONVERGED 0x04u   /* ITCP hit its iteration cap */
+#define EGO_FLAG_NOT_CONVERGED 0x04u   /* the registration hit its iteration cap or budget */
 #define EGO_FLAG_LOW_CORRELATION 0x08u /* histogram correlation below min */
 #define EGO_FLAG_TOO_FEW_POINTS 0x10u  /* scan or matches too sparse: motion predicted */
 #define EGO_FLAG_PREDICTED 0x20u       /* the output is the last motion, not a match */
@@ -199,7 +202,7 @@ typedef struct {
     fx_q16_16_t vy;
     fx_q16_16_t omega;        /* rad/s */
     uint16_t flags;           /* EGO_FLAG_* */
-    uint8_t iterations;       /* ITCP iterations of the chosen candidate */
+    uint8_t iterations;       /* registration iterations of the chosen candidate */
     uint8_t candidates;       /* rotation candidates tried */
     uint16_t points;          /* prepared points of this scan */
     uint16_t matches;
@@ -228,7 +231,7 @@ typedef enum {
     EGO_STAGE_TANGENTS,    /* robust tangents */
     EGO_STAGE_HISTOGRAM,   /* the tangent-angle histogram */
     EGO_STAGE_CORRELATE,   /* histogram correlation: rotation candidates */
-    EGO_STAGE_REGISTER,    /* ITCP (tracking and search) */
+    EGO_STAGE_REGISTER,    /* the registrations (tracking and search) */
     EGO_STAGE_COARSE,      /* the coarse translation (and rotation) search */
     EGO_STAGE_OTHER,       /* the rest: choosing, prediction, bookkeeping */
     EGO_STAGE_COUNT

@@ -13,7 +13,9 @@
  * diagonal keeps a direction the scans do not constrain (along a corridor)
  * at the prediction instead of letting it drift. Point-to-line converges in
  * a few iterations from a prediction good to centimetres, where ITCP's
- * point-to-point needs a dozen; the search (ego.h) still uses ITCP.
+ * point-to-point needs a dozen. The search (ego.h) registers its
+ * candidates with it too: from a coarse search's pose it is as accurate as
+ * ITCP on the real logs for a fortieth of the work (docs/estimator.md).
  *
  * The result is an ego_itcp_result_t, so the estimator judges both alike:
  * the inlier shares per group (max(0, 1 - d^2 / inlier_distance^2) per
