@@ -33,8 +33,8 @@ void ego_defaults(ego_params_t *params)
     params->trust_translation = FX_Q16_16_C(0.10);
     params->trust_rotation = FX_BAM32_DEG_C(3.0);
     params->prior_margin = (fx_q2_30_t)(FX_Q2_30_ONE / 10);
-    params->sweep_steps = 11u;
-    params->sweep_step = FX_BAM32_DEG_C(4.0);
+    params->sweep_steps = 7u;
+    params->sweep_step = FX_BAM32_DEG_C(6.0);
     /* Unbounded until the budgeted path keeps the accuracy (issue 15,
      * docs/estimator.md "The work budget"): ego_budget_defaults sets it. */
     params->work_per_scan = EGO_DEFAULT_WORK_PER_SCAN;
@@ -660,19 +660,33 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             /* Last resort, without a prior: no candidate fits. The
              * histogram's peaks can all be wrong where few walls are seen
              * (its correlation is broad and has one maximum); sweep the
-             * rotation instead. */
+             * rotation instead, coarse to fine: every sweep_step first,
+             * then, if nothing fits yet, the rotations halfway between
+             * (a budget that ends in between has the first's answer). */
             if (se->step == ATTEMPT_DONE) {
-                if (se->light || se->have_prior || params->sweep_steps == 0u ||
-                    good_enough(params, se->best_status, &se->best, false) || fits_some(params, se)) {
+                /* The finer sweep only where the meter still holds what
+                 * the coarse one took (in this scan: one that ran on
+                 * cannot be repeated now). */
+                const bool afford = se->sweeps == 0u ||
+                                    (se->sweep_scans == se->scans &&
+                                     ego_work_left(&state->work) >= state->work.used - se->sweep_mark);
+                if (se->light || se->have_prior || params->sweep_steps == 0u || se->sweeps >= 2u ||
+                    !afford || good_enough(params, se->best_status, &se->best, false) ||
+                    fits_some(params, se)) {
                     se->stage = SEARCH_DONE;
                     break;
                 }
+                se->sweep_mark = state->work.used;
+                se->sweep_scans = se->scans;
                 ego_coarse_params_t cp = params->coarse;
                 cp.window = se->known_motion ? params->coarse_window_wide : params->coarse_window_first;
                 cp.step = se->known_motion ? cp.step : 2 * cp.step; /* as coarse_pass */
                 cp.rotation_steps = params->sweep_steps;
                 cp.rotation_step = params->sweep_step;
-                attempt_begin(state, params, &se->predicted, true, &cp);
+                ego_pose_t centre = se->predicted;
+                centre.theta += (se->sweeps == 0u) ? 0u : params->sweep_step / 2u;
+                se->sweeps++;
+                attempt_begin(state, params, &centre, true, &cp);
             }
             if (!attempt_run(state, params)) {
                 return false;
@@ -684,8 +698,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 se->best_k = se->n; /* no histogram candidate */
                 se->correlation[se->n] = 0;
             }
-            se->stage = SEARCH_DONE;
-            break;
+            break; /* the other half, or done */
         default:
             return true;
         }

@@ -152,6 +152,9 @@ typedef struct {
     uint8_t pass;            /* its coarse passes: next, end */
     uint8_t pass_end;
     uint8_t tried;
+    uint8_t sweeps;          /* rotation sweeps run: the coarse one, then the one between */
+    uint8_t sweep_scans;     /* the scan (of scans) the last sweep started in ... */
+    uint64_t sweep_mark;     /* ... and the meter's count then */
     uint8_t best_k;
     uint16_t flags;
     fx_bam32_t rotation[EGO_HIST_MAX_CANDIDATES + 2u];
