@@ -102,7 +102,8 @@ typedef struct {
                                       with a balanced inlier share this much larger; 0.1 */
     uint8_t sweep_steps;           /* without a prior, when no candidate fits: coarse search */
     fx_bam32_t sweep_step;         /* over rotations sweep_steps * sweep_step each side of
-                                      the prediction; default 11 x 4 deg (0: off) */
+                                      the prediction, then halfway between; default
+                                      7 x 6 deg (0: off) */
     uint32_t work_per_scan;        /* the budget of a scan: this many work units (ego_work.h) */
     uint32_t work_per_s;           /* plus this many per second of scan interval; 0:
                                       unlimited (offline analysis) */
