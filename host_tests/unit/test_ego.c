@@ -72,6 +72,19 @@ static void test_coarse_search_finds_a_large_translation(void)
     TEST_ASSERT_TRUE(fx_q16_16_to_double(best.x) < 0.7);
 }
 
+/* Runs a started coarse search to its end on an unlimited meter: its best
+ * pose, and the work it took (it must have matched something). */
+static uint64_t coarse_to_end(ego_coarse_run_t *run, ego_pose_t *best)
+{
+    ego_work_t work;
+    ego_work_start(&work, EGO_WORK_UNLIMITED);
+    TEST_ASSERT_TRUE(ego_coarse_step(run, &work));
+    uint64_t score = 0u;
+    ego_coarse_result(run, best, &score);
+    TEST_ASSERT_TRUE(score > 0u);
+    return work.used;
+}
+
 /* The light search's coarse search scored along the bearing (tracking's
  * probe) against ITCP's: the same cell, for a third of the work or less. */
 static void test_coarse_search_along_the_bearing(void)
@@ -97,13 +110,7 @@ static void test_coarse_search_along_the_bearing(void)
         if (along != 0u) {
             ego_coarse_along_bearing(&run, &prober, &tp);
         }
-        ego_work_t work;
-        ego_work_start(&work, EGO_WORK_UNLIMITED);
-        TEST_ASSERT_TRUE(ego_coarse_step(&run, &work));
-        uint64_t score = 0u;
-        ego_coarse_result(&run, &best[along], &score);
-        TEST_ASSERT_TRUE(score > 0u);
-        spent[along] = work.used;
+        spent[along] = coarse_to_end(&run, &best[along]);
     }
     char msg[128];
     (void)snprintf(msg, sizeof msg, "found (%.3f, %.3f, %.3f deg), work %llu against %llu",
@@ -146,13 +153,7 @@ static void test_coarse_search_projected(void)
         if (projected != 0u) {
             ego_coarse_projected(&run, &shared.scratch);
         }
-        ego_work_t work;
-        ego_work_start(&work, EGO_WORK_UNLIMITED);
-        TEST_ASSERT_TRUE(ego_coarse_step(&run, &work));
-        uint64_t score = 0u;
-        ego_coarse_result(&run, &best[projected], &score);
-        TEST_ASSERT_TRUE(score > 0u);
-        spent[projected] = work.used;
+        spent[projected] = coarse_to_end(&run, &best[projected]);
     }
     char msg[128];
     (void)snprintf(msg, sizeof msg, "found (%.3f, %.3f), work %llu against %llu",
