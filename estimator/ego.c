@@ -193,6 +193,15 @@ static bool good_enough(const ego_params_t *params, ego_itcp_status_t st, const 
     return st == EGO_ITCP_OK && r->converged && worst_share(r) >= fraction;
 }
 
+/* Does a registration fit loosely: half the accept share over both groups
+ * together. Enough where other evidence backs it (a trusted prediction it
+ * confirms), or where the answer is due (the end of a light search, of a
+ * full search's budget). */
+static bool half_accepted(const ego_params_t *params, const ego_itcp_result_t *r)
+{
+    return balanced_share(r) >= params->accept_fraction / 2;
+}
+
 /* Is a better than b: registered, a balanced inlier share larger by more
  * than margin, then (equal shares, no margin) a smaller residual. */
 static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_status_t sb,
@@ -233,8 +242,7 @@ static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
     const bool cut = !r->converged && r->iterations < params->track.max_iterations;
     const bool confirmed = have_prediction && dt_us <= CONFIRM_INTERVAL_US &&
                            st == EGO_ITCP_OK && (r->converged || cut) &&
-                           close_to(&r->pose, predicted, params) &&
-                           balanced_share(r) >= params->accept_fraction / 2;
+                           close_to(&r->pose, predicted, params) && half_accepted(params, r);
     return confirmed || good_enough(params, st, r, false);
 }
 
@@ -678,9 +686,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 }
                 se->sweep_mark = state->work.used;
                 se->sweep_scans = se->scans;
-                ego_coarse_params_t cp = params->coarse;
-                cp.window = se->known_motion ? params->coarse_window_wide : params->coarse_window_first;
-                cp.step = se->known_motion ? cp.step : 2 * cp.step; /* as coarse_pass */
+                ego_coarse_params_t cp = coarse_pass(se, params, 1u); /* the wide window */
                 cp.rotation_steps = params->sweep_steps;
                 cp.rotation_step = params->sweep_step;
                 ego_pose_t centre = se->predicted;
@@ -796,7 +802,7 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     const bool fits = !se->light || se->stage_tracked ||
                       good_enough(params, se->best_status, &se->best, false) ||
                       confirms_prediction(params, se, &se->best) ||
-                      balanced_share(&se->best) >= params->accept_fraction / 2;
+                      half_accepted(params, &se->best);
     const bool matched = fits && output_match(params, se->best_status, &se->best, se->have_prediction,
                                               &se->predicted, se->main_direction, out);
     if (matched) {
@@ -1005,8 +1011,7 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const e
  * long (docs/estimator.md). */
 static bool answers_now(const ego_params_t *params, const ego_search_t *se)
 {
-    return !se->light && se->best_status == EGO_ITCP_OK &&
-           balanced_share(&se->best) >= params->accept_fraction / 2;
+    return !se->light && se->best_status == EGO_ITCP_OK && half_accepted(params, &se->best);
 }
 
 /* A scan while a search runs: it is not prepared (both slots belong to the

@@ -36,17 +36,28 @@ static int32_t shifts_of(int32_t n)
     return n + (7 * n + 15) / 16 + 1;
 }
 
+/* Units of one direction: both scans' points, its histograms' bins, and
+ * the current histogram's filled bins times the shifts. */
+static uint32_t direction_units(const ego_scan_t *last, const ego_scan_t *current,
+                                uint32_t filled, uint32_t shifts)
+{
+    return ((uint32_t)last->count + current->count) * EGO_COST_PROJECT_POINT +
+           2u * EGO_PROJECT_BINS * EGO_COST_PROJECT_BIN + filled * shifts * EGO_COST_PROJECT_PRODUCT;
+}
+
+/* Units of ranking the (2 n + 1)^2 cells of the window. */
+static uint32_t cells_units(int32_t n)
+{
+    return (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u) * EGO_COST_PROJECT_CELL;
+}
+
 uint32_t ego_project_cost_max(const ego_scan_t *last, const ego_scan_t *current,
                               fx_q16_16_t window, fx_q16_16_t bin)
 {
     const int32_t n = ego_project_side(window, bin);
     const uint32_t shifts = 2u * (uint32_t)shifts_of(n) + 1u;
     const uint32_t filled = (current->count < EGO_PROJECT_BINS) ? current->count : EGO_PROJECT_BINS;
-    const uint32_t cells = (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u);
-    const uint32_t per_dir = ((uint32_t)last->count + current->count) * EGO_COST_PROJECT_POINT +
-                             2u * EGO_PROJECT_BINS * EGO_COST_PROJECT_BIN +
-                             filled * shifts * EGO_COST_PROJECT_PRODUCT;
-    return EGO_PROJECT_DIRS * per_dir + cells * EGO_COST_PROJECT_CELL;
+    return EGO_PROJECT_DIRS * direction_units(last, current, filled, shifts) + cells_units(n);
 }
 
 /* floor(p / bin) for bin > 0. */
@@ -72,17 +83,13 @@ static bool faces(const ego_scan_t *s, uint16_t i, fx_bam32_t turn, fx_bam32_t d
 }
 
 /* Direction k's correlation of the two histograms over shifts -m..m around
- * the window centre's bin, scaled to Q0.16 of its maximum; its units. */
+ * the window centre's bin, scaled to Q0.16 of its maximum; its units. The
+ * direction dir is (c, s); the rotation tried (around->theta), (rc, rs). */
 static uint32_t correlate_direction(const ego_scan_t *last, const ego_scan_t *current,
-                                    const ego_pose_t *around, fx_bam32_t dir, fx_q16_16_t bin,
+                                    const ego_pose_t *around, fx_q2_30_t rs, fx_q2_30_t rc,
+                                    fx_bam32_t dir, fx_q2_30_t s, fx_q2_30_t c, fx_q16_16_t bin,
                                     int32_t m, ego_project_scratch_t *w, unsigned k)
 {
-    fx_q2_30_t s = 0;
-    fx_q2_30_t c = 0;
-    fx_sincos(dir, &s, &c);
-    fx_q2_30_t rs = 0;
-    fx_q2_30_t rc = 0;
-    fx_sincos(around->theta, &rs, &rc);
     memset(w->last, 0, sizeof w->last);
     memset(w->current, 0, sizeof w->current);
     /* The last scan's bins spread over their neighbours (2, 1, 1): a
@@ -135,8 +142,7 @@ static uint32_t correlate_direction(const ego_scan_t *last, const ego_scan_t *cu
         const uint64_t v = ((uint64_t)sum[j] * scale) >> 16;
         w->corr[k][j] = (uint16_t)((v > 65535u) ? 65535u : v);
     }
-    return ((uint32_t)last->count + current->count) * EGO_COST_PROJECT_POINT +
-           2u * EGO_PROJECT_BINS * EGO_COST_PROJECT_BIN + filled * shifts * EGO_COST_PROJECT_PRODUCT;
+    return direction_units(last, current, filled, shifts);
 }
 
 /* Keeps cell (ix, iy) of score v among the best, at most one per
@@ -203,10 +209,14 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
     /* Per direction: its unit vector in Q2.30 bins per bin of motion. */
     fx_q2_30_t s[EGO_PROJECT_DIRS];
     fx_q2_30_t c[EGO_PROJECT_DIRS];
+    fx_q2_30_t rs = 0;
+    fx_q2_30_t rc = 0;
+    fx_sincos(around->theta, &rs, &rc);
     for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
         const fx_bam32_t dir = main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS));
-        units += correlate_direction(last, current, around, dir, bin, m, scratch, k);
         fx_sincos(dir, &s[k], &c[k]);
+        units += correlate_direction(last, current, around, rs, rc, dir, s[k], c[k], bin, m,
+                                     scratch, k);
     }
     uint64_t score[EGO_PROJECT_CELLS];
     int32_t at[2u * EGO_PROJECT_CELLS];
@@ -242,6 +252,5 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
             }
         }
     }
-    const uint32_t cells = (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u);
-    return units + cells * EGO_COST_PROJECT_CELL;
+    return units + cells_units(n);
 }
