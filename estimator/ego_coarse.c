@@ -361,6 +361,19 @@ void ego_coarse_projected(ego_coarse_run_t *r, ego_project_scratch_t *scratch)
     }
 }
 
+/* Projected: a rotation whose cells score no more than half the best
+ * cell of the rotations before it is passed over, fine grid and all. The
+ * grid point nearest the true pose lies at most 0.7 steps from it, where
+ * a point's score max(0, sigma^2 - d^2) keeps half of its most: a
+ * rotation below half the best has nothing near the truth. Wrong
+ * rotations are what a sweep is made of, and they are the dear ones: no
+ * good pose lets their scoring stop early. */
+static uint64_t cells_cut(const ego_coarse_run_t *r)
+{
+    const uint64_t half = r->cells_best / 2u;
+    return (half > r->grid.best_score) ? half : r->grid.best_score;
+}
+
 /* Projected: the 3 x 3 neighbourhood of the cells, one pose at a time;
  * false when every one was scored. */
 static bool cells_score_next(ego_coarse_run_t *r, fx_q16_16_t sigma)
@@ -374,7 +387,7 @@ static bool cells_score_next(ego_coarse_run_t *r, fx_q16_16_t sigma)
     const ego_pose_t *c = &r->cells.cell[k / 9u];
     const ego_pose_t p = {c->theta, fx_add_q16(c->x, ix * r->params.step),
                           fx_add_q16(c->y, iy * r->params.step)};
-    score_begin(r, &p, sigma, r->grid.best_score, false);
+    score_begin(r, &p, sigma, cells_cut(r), false);
     return true;
 }
 
@@ -401,7 +414,7 @@ bool ego_coarse_step(ego_coarse_run_t *r, ego_work_t *work)
                 r->phase = PHASE_COARSE;
                 break;
             case PHASE_CELLS:
-                if (r->scoring.value > r->grid.best_score) {
+                if (r->scoring.value > cells_cut(r)) {
                     r->grid.best_score = r->scoring.value;
                     r->grid.best = r->scoring.pose;
                 }
@@ -466,6 +479,13 @@ bool ego_coarse_step(ego_coarse_run_t *r, ego_work_t *work)
         case PHASE_CELLS:
             ego_work_spend(work, COST_POSE);
             if (!cells_score_next(r, coarse_sigma)) {
+                if (r->grid.best_score <= r->cells_best / 2u) {
+                    r->rotation++; /* nothing near the truth */
+                    r->phase = PHASE_ROTATION;
+                    break;
+                }
+                r->cells_best = (r->grid.best_score > r->cells_best) ? r->grid.best_score
+                                                                     : r->cells_best;
                 const ego_pose_t coarse_best = r->grid.best;
                 grid_begin(&r->grid, &coarse_best, p->step, p->fine_step, p->sigma, &r->best,
                            r->score);

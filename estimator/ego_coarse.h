@@ -117,6 +117,7 @@ typedef struct {
     ego_project_scratch_t *scratch; /* projected (ego_coarse_projected), or NULL */
     ego_project_cells_t cells;
     uint8_t cell;           /* the next of cells' 3 x 3 neighbourhoods to score */
+    uint64_t cells_best;    /* projected: the best cell score of the rotations so far */
 } ego_coarse_run_t;
 
 void ego_coarse_start(ego_coarse_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
