@@ -37,15 +37,15 @@ void ego_defaults(ego_params_t *params)
     params->sweep_step = FX_BAM32_DEG_C(6.0);
     /* Unbounded until the budgeted path keeps the accuracy (issue 15,
      * docs/estimator.md "The work budget"): ego_budget_defaults sets it. */
-    params->work_per_scan = EGO_DEFAULT_WORK_PER_SCAN;
     params->work_per_s = 0u;
+    params->work_min = EGO_DEFAULT_WORK_MIN;
     params->max_search_scans = 30u;
 }
 
 void ego_budget_defaults(ego_params_t *params)
 {
-    params->work_per_scan = EGO_DEFAULT_WORK_PER_SCAN;
     params->work_per_s = EGO_DEFAULT_WORK_PER_S;
+    params->work_min = EGO_DEFAULT_WORK_MIN;
 }
 
 void ego_reset(ego_state_t *state)
@@ -834,16 +834,17 @@ static void finish_output(ego_state_t *state, ego_output_t *out, uint32_t time_u
 
 /* ---- One scan. ---- */
 
-/* The scan's budget: work_per_scan plus its interval since the previous
- * scan times work_per_s; unlimited without a rate or an interval (the first scan only
- * prepares itself). */
+/* The scan's budget: its interval since the previous scan times
+ * work_per_s, at least work_min; unlimited without a rate or an interval
+ * (the first scan only prepares itself). */
 static uint64_t budget(const ego_state_t *state, const ego_params_t *params, uint32_t time_us)
 {
     if (params->work_per_s == 0u || !state->have_previous) {
         return EGO_WORK_UNLIMITED;
     }
     const uint64_t interval = time_us - state->previous_time_us;
-    return params->work_per_scan + interval * params->work_per_s / US_PER_S;
+    const uint64_t scaled = interval * params->work_per_s / US_PER_S;
+    return (scaled > params->work_min) ? scaled : params->work_min;
 }
 
 /* Does this scan's budget pay for the full search (robust tangents, HTAH,
@@ -865,16 +866,23 @@ static bool ample(const ego_state_t *state)
  * where the budget does, converged if it had settled. */
 #define TRACK_PASSES 3u
 
+/* The beams with a range among every step-th: the ones that become points
+ * (a beam without one is passed over at EGO_COST_BEAM_SKIPPED). */
+static uint32_t beams_with_range(const ego_range_scan_t *scan, uint32_t step)
+{
+    uint32_t valid = 0u;
+    for (uint32_t k = 0u; k < scan->count; k += step) {
+        valid += (scan->range[k] != 0u) ? 1u : 0u;
+    }
+    return valid;
+}
+
 /* Every how many beams a point is kept so that preparing the points and
  * tracking them fits the scan's budget (1: all; at most 8, ego_scan.h). */
 static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t *scan,
                                 uint32_t prepare_cost)
 {
-    /* Beams with a range: the ones that become points. */
-    uint32_t valid = 0u;
-    for (uint16_t k = 0u; k < scan->count; k++) {
-        valid += (scan->range[k] != 0u) ? 1u : 0u;
-    }
+    const uint32_t valid = beams_with_range(scan, 1u);
     /* The scan's bookkeeping (EGO_COST_SCAN) is paid already. */
     const uint64_t left = ego_work_left(&state->work);
     const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * EGO_TRACK_TYPICAL_POINT;
@@ -901,16 +909,17 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     const uint32_t tangent_cost = plain ? EGO_COST_TFIT_PLAIN : EGO_COST_TFIT_CHORD;
     const uint32_t per_point = EGO_COST_PREP_BEAM + tangent_cost + EGO_COST_AH_POINT;
     ego_prep_params_t prep = params->prep;
-    uint32_t kept = scan->count;
+    uint32_t step = 1u;
     if (!plain) {
-        const uint32_t step = beams_per_point(state, scan, per_point);
+        step = beams_per_point(state, scan, per_point);
         const uint64_t first_step = ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u);
         const uint64_t spacing = first_step * step;
         prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
                                 ? (fx_bam32_t)spacing
                                 : prep.beam_spacing;
-        kept = (scan->count + step - 1u) / step;
     }
+    /* Charged per point: beams without a range cost their pass only. */
+    const uint32_t kept = beams_with_range(scan, step);
     const uint32_t cost = kept * per_point + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED;
     if (!ego_work_allows(&state->work, cost)) {
         return false;

@@ -104,20 +104,22 @@ typedef struct {
     fx_bam32_t sweep_step;         /* over rotations sweep_steps * sweep_step each side of
                                       the prediction, then halfway between; default
                                       7 x 6 deg (0: off) */
-    uint32_t work_per_scan;        /* the budget of a scan: this many work units (ego_work.h) */
-    uint32_t work_per_s;           /* plus this many per second of scan interval; 0:
+    uint32_t work_per_s;           /* the budget of a scan: this many work units
+                                      (ego_work.h) per second of its interval; 0:
                                       unlimited (offline analysis) */
+    uint32_t work_min;             /* and at least this many units */
     uint8_t max_search_scans;      /* a search not done after this many scans starts over */
 } ego_params_t;
 
-/* The default budget: 150 k units per scan plus 30 M per second of scan
- * interval, 950 k for a 361-value scan at 37.5 Hz and 550 k for a
- * 181-value scan at 75 Hz, which leaves the firmware loop (framing,
- * decoding, the output line: under 50 k) room within issue 15's 1.0 M and
- * 0.6 M Cortex-M3 instructions (docs/firmware.md); a scan 0.4 s after the
- * last may spend 12 M. */
-#define EGO_DEFAULT_WORK_PER_SCAN 150000u
-#define EGO_DEFAULT_WORK_PER_S 30000000u
+/* The default budget follows the time a scan leaves until the next one
+ * (issue 15): 35.62 M units per second of scan interval, 950 k for a
+ * 361-value scan at 37.5 Hz, and at least 550 k, what a 181-value scan at
+ * 75 Hz gets; each leaves the firmware loop (framing, decoding, the output
+ * line: under 50 k) room within 1.0 M and 0.6 M Cortex-M3 instructions
+ * (docs/firmware.md). A scan 0.4 s after the last may spend 14.2 M, one
+ * of a keyframe log 2.92 s after it 104 M. */
+#define EGO_DEFAULT_WORK_PER_S 35620000u
+#define EGO_DEFAULT_WORK_MIN 550000u
 
 /* The defaults, unbounded (work_per_s 0): every scan gets the work it
  * needs, tracked when it can be, searched when not (offline analysis, and
@@ -125,8 +127,8 @@ typedef struct {
  * gives: docs/estimator.md, "The work budget"). */
 void ego_defaults(ego_params_t *params);
 
-/* The sensor-rate budget on top of ego_defaults (work_per_scan
- * EGO_DEFAULT_WORK_PER_SCAN, work_per_s EGO_DEFAULT_WORK_PER_S): what the
+/* The budget on top of ego_defaults (work_per_s EGO_DEFAULT_WORK_PER_S,
+ * work_min EGO_DEFAULT_WORK_MIN): what the
  * live core runs (ego_live_defaults). Every scan keeps its budget; tracked
  * scans keep every beam; a search that needs more runs over the next
  * scans (EGO_FLAG_RECOVERING, then EGO_FLAG_RECOVERED). */

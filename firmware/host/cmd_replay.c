@@ -1,5 +1,5 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
- * [--mode HEX] [--budget none|U] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
+ * [--mode HEX] [--budget none|default|U] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
  * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
@@ -7,10 +7,12 @@
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
  *
- * --budget sets the estimator's work budget (ego.h): U work units (about
- * Cortex-M3 instructions, estimator/ego_work.h) per second of scan
- * interval on top of 150 000 per scan, or `none` (the default for now:
- * the budgeted path is work in progress, docs/estimator.md).
+ * --budget sets the estimator's work budget (ego.h): `default` (the live
+ * core's: 35.62 M work units, about Cortex-M3 instructions,
+ * estimator/ego_work.h, per second of scan interval, at least 550 000 a
+ * scan), U units per second, or `none` (the default for now: within the
+ * budget the synthetic drives at sensor rate are not yet as accurate,
+ * docs/estimator.md).
  * --prior FILE gives a motion prior per scan (lines `i j dx dy dtheta`, as
  * `import-carmen --odometry` writes them; ego.h says how it is used).
  * --pairs OUT also writes `i j dx dy dtheta` per consecutive pair (scan
@@ -309,10 +311,12 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             double units = 0.0;
             if (value != NULL && strcmp(value, "none") == 0) {
                 config.ego.work_per_s = 0u;
+            } else if (value != NULL && strcmp(value, "default") == 0) {
+                ego_budget_defaults(&config.ego);
             } else if (value == NULL || cli_parse_double(value, &units) != 0 || units < 1e5 ||
                        units > 4e9) {
                 return cli_usage_error(self, "invalid --budget", value,
-                                       "none, or work units per second, 1e5 .. 4e9");
+                                       "none, default, or work units per second, 1e5 .. 4e9");
             } else {
                 ego_budget_defaults(&config.ego);
                 config.ego.work_per_s = (uint32_t)lround(units);

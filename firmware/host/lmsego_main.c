@@ -21,7 +21,7 @@ static const cli_command_t commands[] = {
     {"stats", "FILE", "count telegrams, scans and framing errors of a recorded stream", cmd_stats},
     {"scans", "[--mode HEX] FILE", "print every decoded B0 scan, one line per scan", cmd_scans},
     {"replay",
-     "[--period S] [--mount X,Y,DEG] [--mode HEX] [--budget none|U] [--icp] [--hist KIND] [--prior FILE] "
+     "[--period S] [--mount X,Y,DEG] [--mode HEX] [--budget none|default|U] [--icp] [--hist KIND] [--prior FILE] "
      "[--pairs OUT] [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] FILE",
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
     {"frames", "FILE", "decode a captured stream of binary ego-motion frames to the replay CSV",

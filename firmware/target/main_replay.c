@@ -3,7 +3,7 @@
  * compiled into flash (lmsego_stream, generated from a .lms file by
  * cmake/bin2c.cmake), writing the same CSV lines to UART0. Built with
  * REPLAY_BUDGET it runs the estimator within its sensor-rate budget
- * (ego_budget_defaults: `lmsego replay --budget 30e6` on the host).
+ * (ego_budget_defaults: `lmsego replay --budget default` on the host).
  *
  * It also measures itself: the instructions between consecutive output
  * lines (one scan: framing, decoding, the estimator and the line), counted
@@ -185,8 +185,9 @@ int main(void)
      * upper bounds of its instructions, ego_work.h) and LOOP_ALLOWANCE for
      * the loop's own framing, decoding and line: 1.0 M for 361 values at
      * 37.5 Hz, 0.6 M for 181 at 75 Hz (issue 15). */
-    report_field(" budget=", (uint64_t)config.ego.work_per_scan + LOOP_ALLOWANCE +
-                                 (uint64_t)loop.period_us * config.ego.work_per_s / 1000000u);
+    const uint64_t scaled = (uint64_t)loop.period_us * config.ego.work_per_s / 1000000u;
+    report_field(" budget=", LOOP_ALLOWANCE + ((scaled > config.ego.work_min) ? scaled
+                                                                            : config.ego.work_min));
 #endif
     report_field(" scans=", ego_loop_stats(&loop)->scans);
 #if defined(EGO_PROFILE)

@@ -2,7 +2,7 @@
 #   -DEMULATOR=<qemu command, a list ending in -kernel> -DIMAGE=<elf>
 #   -DSTREAM=<.lms> -DHOST_LMSEGO=<host lmsego or empty> -DOUT=<prefix>
 #   [-DMAX_INSNS=<gate on the largest scan's instructions>]
-#   [-DHOST_ARGS=<options of the host's lmsego replay, e.g. --budget;30e6>]
+#   [-DHOST_ARGS=<options of the host's lmsego replay, e.g. --budget;default>]
 # Passes when the image exits 0, prints its '# insns_per_scan' line (with
 # a max at or below MAX_INSNS, when given: instruction counts under
 # -icount are the same run after run, so the gate catches any growth; and

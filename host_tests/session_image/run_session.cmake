@@ -14,7 +14,7 @@
 #   Passes when the program exits 0, its lines are numbered 1, 2, 3, ...,
 #   one of them (not among the first 10) is the restart (flags odd:
 #   EGO_FLAG_FIRST), and every line before it, header included, equals
-#   `lmsego replay --budget 30e6 STREAM`'s line with the same number.
+#   `lmsego replay --budget default STREAM`'s line with the same number.
 include(${CMAKE_CURRENT_LIST_DIR}/../../firmware/target/run_image.cmake)
 get_filename_component(dir "${OUT}" DIRECTORY)
 file(MAKE_DIRECTORY "${dir}")
@@ -56,7 +56,7 @@ elseif(MODE STREQUAL "replay")
         message(FATAL_ERROR "${PROGRAM} exited with '${prc}': ${failed}")
     endif()
     # The live core runs within the sensor-rate budget (ego_live_defaults).
-    execute_process(COMMAND "${LMSEGO}" replay --budget 30e6 "${STREAM}"
+    execute_process(COMMAND "${LMSEGO}" replay --budget default "${STREAM}"
         OUTPUT_FILE "${OUT}.replay" ERROR_QUIET RESULT_VARIABLE rrc)
     if(NOT rrc EQUAL 0)
         message(FATAL_ERROR "lmsego replay failed: ${rrc}")

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks `lmsego replay --budget 30e6` of the adversarial recording
+"""Checks `lmsego replay --budget default` of the adversarial recording
 (host_tests/data/recordings/adversarial_361_cm.lms: `lmsgen --adversarial`,
 SCANS scans of each hard case in turn) for what issue 15 asks of them:
 defined flags, and no motion claimed that the scans cannot support.

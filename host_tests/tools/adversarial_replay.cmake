@@ -1,4 +1,4 @@
-# cmake -P script: `lmsego replay --budget 30e6` of the adversarial recording
+# cmake -P script: `lmsego replay --budget default` of the adversarial recording
 # -> CSV, then adversarial_check.py on it. Fails when the replay fails or a
 # line breaks the check.
 foreach(var LMSEGO PYTHON SCRIPT STREAM OUT)
@@ -6,7 +6,7 @@ foreach(var LMSEGO PYTHON SCRIPT STREAM OUT)
         message(FATAL_ERROR "adversarial_replay.cmake: ${var} is not set")
     endif()
 endforeach()
-execute_process(COMMAND ${LMSEGO} replay --budget 30e6 ${STREAM}
+execute_process(COMMAND ${LMSEGO} replay --budget default ${STREAM}
     OUTPUT_FILE ${OUT} ERROR_VARIABLE err RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "lmsego replay failed (${rc}): ${err}")

@@ -381,8 +381,8 @@ static void test_ego_budget_holds_on_adversarial_scans(void)
             char msg[96];
             (void)snprintf(msg, sizeof msg, "kind %u scan %u work %u limit %u flags 0x%x", kind,
                            k, (unsigned)out.work, (unsigned)out.work_limit, (unsigned)out.flags);
-            /* 150 k + 30 M/s x 26.667 ms. */
-            TEST_ASSERT_EQUAL_UINT32_MESSAGE(950010u, out.work_limit, msg);
+            /* 35.62 M/s x 26.667 ms. */
+            TEST_ASSERT_EQUAL_UINT32_MESSAGE(949878u, out.work_limit, msg);
             TEST_ASSERT_TRUE_MESSAGE(out.work <= out.work_limit, msg);
             if ((out.flags & EGO_FLAG_RECOVERING) != 0u) {
                 TEST_ASSERT_EQUAL_INT32_MESSAGE(0, out.pose.x, msg);
@@ -392,6 +392,33 @@ static void test_ego_budget_holds_on_adversarial_scans(void)
         }
         /* Work was done: the meter counts. */
         TEST_ASSERT_TRUE(spent > 0u);
+    }
+}
+
+/* The budget follows the interval a scan leaves: at least work_min (a
+ * 181-value scan at 75 Hz), else 35.62 M units per second of it (a
+ * keyframe 2.92 s after the last: 104 M). */
+static void test_ego_budget_follows_the_interval(void)
+{
+    static const struct {
+        uint32_t interval_us;
+        uint32_t limit;
+    } cases[] = {{13333u, 550000u}, {26667u, 949878u}, {400000u, 14248000u},
+                 {2920000u, 104010400u}};
+    ego_defaults(&g_params);
+    ego_budget_defaults(&g_params);
+    ego_reset(&g_state);
+    uint32_t t = 0u;
+    for (unsigned k = 0u; k <= sizeof cases / sizeof cases[0]; k++) {
+        adversarial_lms(ALL_INVALID, k);
+        ego_output_t out;
+        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms), t, &out));
+        if (k > 0u) {
+            TEST_ASSERT_EQUAL_UINT32(cases[k - 1u].limit, out.work_limit);
+        }
+        if (k < sizeof cases / sizeof cases[0]) {
+            t += cases[k].interval_us;
+        }
     }
 }
 
@@ -519,6 +546,7 @@ int main(void)
     RUN_TEST(test_ego_large_first_motion_needs_the_coarse_search);
     RUN_TEST(test_ego_long_interval_and_sparse_scans);
     RUN_TEST(test_ego_budget_holds_on_adversarial_scans);
+    RUN_TEST(test_ego_budget_follows_the_interval);
     RUN_TEST(test_ego_unbounded_answers_every_scan);
     RUN_TEST(test_ego_budget_recovers_from_a_jump_without_a_hole);
     return UNITY_END();

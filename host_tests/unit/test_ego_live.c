@@ -324,7 +324,7 @@ static const char *replay(uint32_t from, uint32_t to)
     P.len = len;
     ego_live_config_t live;
     ego_live_defaults(&live);
-    config = live.loop; /* the live core's: `replay --budget 30e6` */
+    config = live.loop; /* the live core's: `replay --budget default` */
     config.lms.meas_mode = R.scene_mode; /* `lmsego replay --mode` */
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {replay_read, replay_write, replay_now, &P};

@@ -10,7 +10,7 @@
 #
 # Cases:
 #   stream       300 scans of a looped recording at 500 kbaud; the CSV is
-#                byte-identical to `lmsego replay --budget 30e6` of the same scans.
+#                byte-identical to `lmsego replay --budget default` of the same scans.
 #   baud-B       the scanner starts at B (9600, 19200, 38400, 500000).
 #   variant      --variant 180,1 --units mm on the synthetic scanner: one
 #                EEPROM write, 181-value mm scans.
@@ -62,7 +62,7 @@ stop_scanner() {
 # The first N CSV lines of `run` must equal the first N of replay.
 same_as_replay() {
     # run keeps the sensor-rate budget (ego_live_defaults): replay with it.
-    "$lmsego" replay --budget 30e6 "$1" > replay.csv 2>/dev/null || fail "replay failed"
+    "$lmsego" replay --budget default "$1" > replay.csv 2>/dev/null || fail "replay failed"
     n=$(wc -l < run.csv)
     [ "$n" -ge "$2" ] || fail "run wrote $n lines, wanted at least $2"
     head -n "$n" replay.csv > replay.head
