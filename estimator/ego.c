@@ -235,14 +235,21 @@ static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_st
 
 static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
                             const ego_itcp_result_t *r, const ego_pose_t *predicted,
-                            bool have_prediction, uint32_t dt_us)
+                            bool have_prediction, uint32_t dt_us, fx_bam32_t main_direction)
 {
     /* Ended by the budget before its iterations did: unconverged, but a
      * pose that moved by millimetres in the last pass. */
     const bool cut = !r->converged && r->iterations < params->track.max_iterations;
+    /* Along a corridor the registration cannot tell how far it went (and a
+     * car ahead pulls it towards standing still): judged, like its output
+     * (output_match), with the prediction's motion along the corridor. */
+    ego_pose_t pose = r->pose;
+    if (r->aperture) {
+        keep_prediction_along(&pose, predicted, main_direction);
+    }
     const bool confirmed = have_prediction && dt_us <= CONFIRM_INTERVAL_US &&
                            st == EGO_ITCP_OK && (r->converged || cut) &&
-                           close_to(&r->pose, predicted, params) && half_accepted(params, r);
+                           close_to(&pose, predicted, params) && half_accepted(params, r);
     return confirmed || good_enough(params, st, r, false);
 }
 
@@ -628,11 +635,13 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             }
             ego_itcp_result_t r;
             const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-            if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction, se->dt_us)) {
+            const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
+            if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction, se->dt_us,
+                                main_direction)) {
                 se->best = r;
                 se->best_status = st;
                 se->stage_tracked = true;
-                se->main_direction = ego_hist_main_direction(&state->hist[state->last]);
+                se->main_direction = main_direction;
                 se->stage = SEARCH_DONE;
             } else {
                 se->stage = SEARCH_REFINE;
@@ -967,7 +976,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-    if (!tracking_stands(params, st, &r, predicted, have_prediction, dt_us)) {
+    if (!tracking_stands(params, st, &r, predicted, have_prediction, dt_us, main_direction)) {
         return TRACK_FAILED;
     }
     return output_match(params, st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND

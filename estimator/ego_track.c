@@ -79,6 +79,7 @@ static uint8_t pass_stride(const ego_track_run_t *run)
 static void begin_pass(ego_track_run_t *run)
 {
     memset(run->group, 0, sizeof run->group);
+    run->pass_units = 0u;
     fx_sincos(run->pose.theta, &run->sn, &run->cs);
     run->stride = pass_stride(run);
     run->next = 0u;
@@ -449,6 +450,17 @@ EGO_NOINLINE static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t 
     return true;
 }
 
+/* What a point of the next pass should cost: this pass's mean (the
+ * passes get no dearer: each has a smaller radius), at least a typical
+ * point's. A pass that still runs dry leaves the run unfinished, and its
+ * scan's search finishes it in the next scan's budget. */
+static uint32_t pass_point_units(const ego_track_run_t *run)
+{
+    const uint32_t points = (run->current->count + run->stride - 1u) / run->stride;
+    const uint32_t mean = run->pass_units / ((points > 0u) ? points : 1u);
+    return (mean > EGO_TRACK_TYPICAL_POINT) ? mean : EGO_TRACK_TYPICAL_POINT;
+}
+
 /* The end of a pass: the step, convergence, the next pass or the end. */
 static void close_pass(ego_track_run_t *run, const ego_work_t *work)
 {
@@ -486,11 +498,13 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
     /* 0.3 m, then a third of it each pass down to the radius. */
     run->radius = (run->radius / 3 > params->radius) ? run->radius / 3 : params->radius;
     /* Until the budget: a meter that cannot pay for another pass ends the
-     * run here, with the statistics of this one, converged when settled. */
+     * run here, with the statistics of this one, converged when settled
+     * (a pass sized by the typical point alone ran dry on the busy road's
+     * dear points, and its scan cost the next one). */
     const uint32_t next_stride = pass_stride(run);
     const uint32_t next_points = (run->current->count + next_stride - 1u) / next_stride;
-    if (run->until_budget &&
-        !ego_work_allows(work, next_points * EGO_TRACK_TYPICAL_POINT + EGO_COST_SOLVE)) {
+    if (run->until_budget && !ego_work_allows(work, next_points * pass_point_units(run) +
+                                                        EGO_COST_SOLVE)) {
         run->converged = settled;
         run->finished = true;
         return;
@@ -512,7 +526,9 @@ bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
             point_work_t w = {0u, 0u, 0u};
             match_point(run, run->next, &w);
             run->next = (uint16_t)(run->next + run->stride);
-            ego_work_spend(work, units_of(EGO_COST_TRACK_POINT, &w));
+            const uint32_t units = units_of(EGO_COST_TRACK_POINT, &w);
+            run->pass_units += units;
+            ego_work_spend(work, units);
         } else {
             if (!ego_work_allows(work, EGO_COST_SOLVE)) {
                 return false;

@@ -94,6 +94,7 @@ typedef struct {
     uint16_t hint;    /* where the last point was found */
     uint8_t iteration;
     uint8_t stride;   /* every how many current points the pass matches */
+    uint32_t pass_units; /* the work of the pass's points so far */
     bool until_budget;
     bool finished;
     bool converged;
@@ -105,7 +106,8 @@ typedef struct {
 } ego_track_run_t;
 
 /* until_budget: the run ends where the meter cannot pay for another
- * typical pass (converged when its last full pass's step was small), for a
+ * pass at the last one's cost per point (a typical point's at least;
+ * converged when its last full pass's step was small), for a
  * caller whose answer is due with this meter; otherwise it waits for more
  * work (ego_track_step returns false). */
 void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_scan_t *current,

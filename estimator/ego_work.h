@@ -28,7 +28,7 @@ typedef struct {
 #define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per beam kept ... */
 #define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
-#define EGO_COST_TFIT_CHORD 130u         /* one chord tangent (one point) */
+#define EGO_COST_TFIT_CHORD 150u         /* one chord tangent (one point) */
 #define EGO_COST_TFIT_ROBUST 6500u       /* one robust tangent fit (plain + 2 passes) */
 #define EGO_COST_AH_POINT 185u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */
