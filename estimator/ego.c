@@ -383,15 +383,118 @@ static bool refine_slot(ego_state_t *state, const ego_params_t *params, uint8_t 
     return true;
 }
 
+/* The candidates from the correlation's peaks hm: the prior's rotation
+ * first; under a budget a trusted prediction's too (the histogram of a
+ * thinned scan is coarse); the predicted rotation when the histogram is
+ * not trustworthy. */
+static void take_rotations(ego_search_t *se, const ego_params_t *params, const ego_hist_match_t *hm)
+{
+    uint8_t n = 0u;
+    /* The prior's rotation first; under a budget a trusted prediction's
+     * too (the histogram of a thinned scan is coarse). */
+    const bool prediction_first = se->have_prior || (se->light && se->have_prediction);
+    if (prediction_first) {
+        se->rotation[n] = se->predicted.theta;
+        se->correlation[n] = (hm->count > 0u) ? hm->candidate[0].correlation : 0;
+        n++;
+    }
+    for (uint8_t k = 0u; k < hm->count; k++) {
+        se->rotation[n] = hm->candidate[k].rotation;
+        se->correlation[n] = hm->candidate[k].correlation;
+        n++;
+    }
+    if (hm->count == 0u || hm->candidate[0].correlation < params->min_correlation) {
+        se->flags |= EGO_FLAG_LOW_CORRELATION;
+        if (!prediction_first) {
+            se->rotation[n] = se->predicted.theta;
+            se->correlation[n] = (hm->count > 0u) ? hm->candidate[0].correlation : 0;
+            n++;
+        }
+    }
+    se->n = n;
+}
+
+/* The work of a 1-deg correlation over +-degrees (ego_hist.h): four
+ * passes over the fine bins, then its shifts. */
+static uint32_t coarse_match_cost(uint32_t degrees)
+{
+    return EGO_HIST_BINS * COST_CORRELATE_BIN / 2u + (2u * degrees + 3u) * EGO_COST_COARSE_SHIFT;
+}
+
+/* Fine bins each side of a 1-deg peak that refine it (1 deg). */
+#define REFINE_BINS 5u
+
+/* Under a budget: the AH histograms correlated at 1 deg over the whole
+ * range (ego_hist_coarse_match), then each peak at 0.2 deg within 1 deg of
+ * it (ego_hist_correlate), one peak a step; cursor: the next candidate. A
+ * few percent of the work of the 0.2-deg correlation over the range (on a
+ * 361-value scan up to six sensor-rate budgets: its products), for the
+ * same peaks where they are a degree or more apart. */
+static bool correlate_light(ego_state_t *state, const ego_params_t *params)
+{
+    ego_search_t *se = &state->search;
+    const ego_hist_t *current = &state->hist[other_slot(state->last)];
+    const ego_hist_t *last = &state->hist[state->last];
+    if (se->cursor == 0u) {
+        const uint32_t degrees = (uint32_t)params->max_rotation_bins * 180u / EGO_HIST_BINS;
+        const uint32_t cost = coarse_match_cost(degrees);
+        if (!ego_work_allows(&state->work, cost)) {
+            return false;
+        }
+        STAGE(EGO_STAGE_CORRELATE);
+        ego_work_spend(&state->work, cost);
+        ego_hist_match_t hm;
+        ego_hist_coarse_match(current, last, se->have_prior ? se->predicted.theta : 0u,
+                              (uint16_t)degrees, params->merge_bins, &hm);
+        STAGE(EGO_STAGE_OTHER);
+        take_rotations(se, params, &hm);
+        se->cursor = 1u;
+    }
+    const uint32_t per_shift =
+        (ego_hist_correlation_products(current) + 8u) * EGO_COST_CORRELATE_PRODUCT;
+    /* Its setup, its shifts, and the four dots that start it (two norms,
+     * the two shifts before the first). */
+    const uint32_t refine =
+        EGO_HIST_BINS * COST_CORRELATE_BIN + (2u * REFINE_BINS + 1u + 4u) * per_shift;
+    for (; se->cursor <= se->n; se->cursor++) {
+        const uint8_t k = (uint8_t)(se->cursor - 1u);
+        if (se->rotation[k] == se->predicted.theta) {
+            continue; /* the prediction's own candidate is no peak */
+        }
+        if (!ego_work_allows(&state->work, refine)) {
+            return false;
+        }
+        STAGE(EGO_STAGE_CORRELATE);
+        ego_work_spend(&state->work, refine);
+        ego_hist_match_t fine;
+        ego_hist_correlate(current, last, se->rotation[k], REFINE_BINS, params->merge_bins, &fine);
+        STAGE(EGO_STAGE_OTHER);
+        if (fine.count > 0u) {
+            se->rotation[k] = fine.candidate[0].rotation;
+            se->correlation[k] = fine.candidate[0].correlation;
+        }
+    }
+    se->cursor = 0u;
+    se->main_direction = ego_hist_main_direction(last);
+    return true;
+}
+
 /* The rotation candidates: the prior's rotation, the histogram's peaks,
  * and the predicted rotation when the histogram is not trustworthy. The
- * correlation goes a chunk of shifts at a time. */
+ * full search correlates the HTAH histograms at 0.2 deg, a chunk of shifts
+ * at a time; the light one the AH histograms at 1 deg, at once (a fifth of
+ * a sensor-rate budget instead of up to six budgets on a 361-value scan:
+ * its registrations refine the rotation anyway). */
 static bool correlate(ego_state_t *state, const ego_params_t *params)
 {
     ego_search_t *se = &state->search;
     const uint8_t cur = other_slot(state->last);
+    const fx_bam32_t expected = se->have_prior ? se->predicted.theta : 0u;
+    if (se->light) {
+        return correlate_light(state, params);
+    }
+    ego_hist_match_t hm;
     if (se->cursor == 0u) {
-        const fx_bam32_t expected = se->have_prior ? se->predicted.theta : 0u;
         ego_hist_correlation_start(&se->correlation_run, expected, params->max_rotation_bins,
                                    params->merge_bins);
         se->cursor = 1u;
@@ -419,31 +522,8 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
     }
     STAGE(EGO_STAGE_OTHER);
     se->cursor = 0u;
-    ego_hist_match_t hm;
     ego_hist_correlation_result(&se->correlation_run, &hm);
-    uint8_t n = 0u;
-    /* The prior's rotation first; under a budget a trusted prediction's
-     * too (the histogram of a thinned scan is coarse). */
-    const bool prediction_first = se->have_prior || (se->light && se->have_prediction);
-    if (prediction_first) {
-        se->rotation[n] = se->predicted.theta;
-        se->correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
-        n++;
-    }
-    for (uint8_t k = 0u; k < hm.count; k++) {
-        se->rotation[n] = hm.candidate[k].rotation;
-        se->correlation[n] = hm.candidate[k].correlation;
-        n++;
-    }
-    if (hm.count == 0u || hm.candidate[0].correlation < params->min_correlation) {
-        se->flags |= EGO_FLAG_LOW_CORRELATION;
-        if (!prediction_first) {
-            se->rotation[n] = se->predicted.theta;
-            se->correlation[n] = (hm.count > 0u) ? hm.candidate[0].correlation : 0;
-            n++;
-        }
-    }
-    se->n = n;
+    take_rotations(se, params, &hm);
     se->main_direction = ego_hist_main_direction(&state->hist[state->last]);
     return true;
 }
@@ -771,6 +851,14 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
         }
     }
     out->flags |= r->converged ? 0u : EGO_FLAG_NOT_CONVERGED;
+    if (r->weak_rotation) {
+        /* Every surface faces the scanner: the turn is the prediction's,
+         * if there is one (flagged either way). */
+        out->flags |= EGO_FLAG_WEAK_ROTATION;
+        if (have_prediction) {
+            out->pose.theta = predicted->theta;
+        }
+    }
     return true;
 }
 
@@ -817,7 +905,7 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     if (matched) {
         out->correlation = se->correlation[se->best_k];
     } else {
-        out->flags &= (uint16_t)~(EGO_FLAG_APERTURE | EGO_FLAG_NOT_CONVERGED);
+        out->flags &= (uint16_t)~(EGO_FLAG_APERTURE | EGO_FLAG_NOT_CONVERGED | EGO_FLAG_WEAK_ROTATION);
         out->flags |= EGO_FLAG_PREDICTED | (fits ? EGO_FLAG_TOO_FEW_POINTS : 0u);
         out->pose = se->predicted;
     }
@@ -995,9 +1083,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
 static bool turned_start(ego_state_t *state, uint8_t cur, const ego_pose_t *predicted,
                          ego_pose_t *start)
 {
-    const uint32_t cost = EGO_HIST_BINS * COST_CORRELATE_BIN / 2u +
-                          (2u * TURN_GUESS_DEG + 3u) * EGO_HIST_GUESS_PRODUCTS *
-                              EGO_COST_CORRELATE_PRODUCT;
+    const uint32_t cost = coarse_match_cost(TURN_GUESS_DEG);
     if (!ego_work_allows(&state->work, cost)) {
         return false;
     }

@@ -80,6 +80,8 @@
                                           budget): no motion claimed, a later line covers it */
 #define EGO_FLAG_RECOVERED 0x80u       /* the search ended: the motion from the last trusted
                                           scan to the scan it started from (dt_us apart) */
+#define EGO_FLAG_WEAK_ROTATION 0x100u /* every surface faces the scanner (a ring around
+                                          it): the rotation is not measured */
 
 typedef struct {
     ego_prep_params_t prep;

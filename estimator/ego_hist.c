@@ -579,28 +579,37 @@ uint32_t ego_hist_correlation_products(const ego_hist_t *current)
     return products;
 }
 
+/* The candidates of sorted peaks: best first, a peak within merge_bins of
+ * a better one kept dropped; coarse: 1-deg peaks (coarse_rotation). */
+static fx_bam32_t coarse_rotation(const peak_t *p);
+
+static void take_candidates(const peak_t *peaks, uint8_t count, int64_t den, uint16_t merge_bins,
+                            bool coarse, ego_hist_match_t *match)
+{
+    int32_t kept[EGO_HIST_MAX_CANDIDATES] = {0};
+    for (uint8_t k = 0u; k < count && match->count < EGO_HIST_MAX_CANDIDATES; k++) {
+        bool near = false;
+        for (uint8_t m = 0u; m < match->count; m++) {
+            const int32_t gap = peaks[k].shift - kept[m];
+            near = near || (gap <= (int32_t)merge_bins && gap >= -(int32_t)merge_bins);
+        }
+        if (near) {
+            continue;
+        }
+        kept[match->count] = peaks[k].shift;
+        ego_hist_candidate_t *cand = &match->candidate[match->count++];
+        cand->rotation = coarse ? coarse_rotation(&peaks[k]) : peak_rotation(&peaks[k]);
+        cand->correlation = ratio_q30(peaks[k].value, den);
+    }
+}
+
 void ego_hist_correlation_result(const ego_hist_correlation_t *c, ego_hist_match_t *match)
 {
     memset(match, 0, sizeof *match);
     if (!c->started) {
         return;
     }
-    /* Best first; a peak within merge_bins of a better one kept is dropped. */
-    int32_t kept[EGO_HIST_MAX_CANDIDATES] = {0};
-    for (uint8_t k = 0u; k < c->npeaks && match->count < EGO_HIST_MAX_CANDIDATES; k++) {
-        bool near = false;
-        for (uint8_t m = 0u; m < match->count; m++) {
-            const int32_t gap = c->peaks[k].shift - kept[m];
-            near = near || (gap <= (int32_t)c->merge_bins && gap >= -(int32_t)c->merge_bins);
-        }
-        if (near) {
-            continue;
-        }
-        kept[match->count] = c->peaks[k].shift;
-        ego_hist_candidate_t *cand = &match->candidate[match->count++];
-        cand->rotation = peak_rotation(&c->peaks[k]);
-        cand->correlation = ratio_q30(c->peaks[k].value, c->den);
-    }
+    take_candidates(c->peaks, c->npeaks, c->den, c->merge_bins, false, match);
 }
 
 uint32_t ego_hist_correlation_shifts(const ego_hist_correlation_t *c)
@@ -623,8 +632,9 @@ void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_ba
 _Static_assert(EGO_HIST_BINS % GUESS_GROUP == 0u, "whole coarse bins");
 
 /* A histogram in 1-deg bins from fine bin `from` on (wrapping), scaled
- * right by `shift`; the largest sum before scaling. */
-static uint64_t coarse_bins(const ego_hist_t *h, uint32_t from, unsigned shift, uint16_t *out)
+ * right by `shift` and left by `up`; the largest sum before scaling. */
+static uint64_t coarse_bins(const ego_hist_t *h, uint32_t from, unsigned shift, unsigned up,
+                            uint16_t *out)
 {
     uint64_t top = 0u;
     uint32_t j = from;
@@ -636,15 +646,20 @@ static uint64_t coarse_bins(const ego_hist_t *h, uint32_t from, unsigned shift, 
         }
         top = (sum > top) ? sum : top;
         if (out != NULL) {
-            const uint64_t v = sum >> shift;
+            const uint64_t v = (sum >> shift) << up;
             out[c] = (uint16_t)((v > 0xFFFFu) ? 0xFFFFu : v);
         }
     }
     return top;
 }
 
-bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
-                         uint16_t max_shift_coarse, fx_bam32_t *turn)
+/* The coarse correlation's local maxima within +-max_shift_coarse degrees
+ * of centre, largest first (at most PEAKS_MAX): each peak's shift in fine
+ * bins, its dot product and its neighbours' (a maximum: at least its left
+ * neighbour, above its right one), and den, the product of the two
+ * histograms' coarse norms; 0 peaks when a histogram is empty. */
+static uint8_t coarse_peaks(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                            uint16_t max_shift_coarse, peak_t *peaks, int64_t *den)
 {
     const int32_t mid = bins_of(centre);
     /* Both histograms in 1-deg bins, 16 bits: the current one from bin 0,
@@ -653,10 +668,10 @@ bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_b
      * bins. */
     const uint32_t phase = (uint32_t)(((mid % (int32_t)GUESS_GROUP) + (int32_t)GUESS_GROUP) %
                                       (int32_t)GUESS_GROUP);
-    const uint64_t top_a = coarse_bins(current, 0u, 0u, NULL);
-    const uint64_t top_b = coarse_bins(last, phase, 0u, NULL);
+    const uint64_t top_a = coarse_bins(current, 0u, 0u, 0u, NULL);
+    const uint64_t top_b = coarse_bins(last, phase, 0u, 0u, NULL);
     if (top_a == 0u || top_b == 0u) {
-        return false;
+        return 0u;
     }
     unsigned sa = 0u;
     while ((top_a >> sa) > 0xFFFFu) {
@@ -666,51 +681,86 @@ bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_b
     while ((top_b >> sb) > 0xFFFFu) {
         sb++;
     }
+    /* Small counts are scaled up too: the norms' square roots round. */
+    unsigned ua = 0u;
+    while ((top_a << (ua + 1u)) <= 0xFFFFu) {
+        ua++;
+    }
+    unsigned ub = 0u;
+    while ((top_b << (ub + 1u)) <= 0xFFFFu) {
+        ub++;
+    }
     uint16_t a[GUESS_BINS];
     uint16_t b[GUESS_BINS];
-    (void)coarse_bins(current, 0u, sa, a);
-    (void)coarse_bins(last, phase, sb, b);
+    (void)coarse_bins(current, 0u, sa, ua, a);
+    (void)coarse_bins(last, phase, sb, ub, b);
+    uint64_t na = 0u;
+    uint64_t nb = 0u;
+    for (uint16_t c = 0u; c < GUESS_BINS; c++) {
+        na += (uint32_t)a[c] * a[c];
+        nb += (uint32_t)b[c] * b[c];
+    }
+    *den = (int64_t)fx_sqrt_u64(na) * (int64_t)fx_sqrt_u64(nb);
     const int32_t base = (mid - (int32_t)phase) / (int32_t)GUESS_GROUP; /* exact */
     const int32_t limit = (max_shift_coarse < GUESS_BINS / 2u) ? (int32_t)max_shift_coarse
                                                                 : (int32_t)(GUESS_BINS / 2u - 1u);
     /* dot(s) = sum_c a[c] b[c + base + s]: current bin i meets last bin
      * i + shift, the correlation's convention. */
-    uint64_t best = 0u;
-    uint64_t best_left = 0u;
-    uint64_t best_right = 0u;
-    int32_t best_s = 0;
-    bool found = false;
+    uint8_t count = 0u;
     uint64_t prev = 0u;
     uint64_t here = 0u;
     for (int32_t s = -limit - 1; s <= limit + 1; s++) {
         const int32_t start = base + s;
-        uint32_t j = (uint32_t)(((start % (int32_t)GUESS_BINS) + (int32_t)GUESS_BINS) %
-                                (int32_t)GUESS_BINS);
+        const uint32_t j = (uint32_t)(((start % (int32_t)GUESS_BINS) + (int32_t)GUESS_BINS) %
+                                      (int32_t)GUESS_BINS);
+        /* In two runs, so that no product tests for the wrap. */
         uint64_t dot = 0u;
-        for (uint16_t c = 0u; c < GUESS_BINS; c++) {
-            dot += (uint32_t)a[c] * b[j];
-            j = (j + 1u < GUESS_BINS) ? j + 1u : 0u;
+        const uint32_t split = GUESS_BINS - j;
+        for (uint32_t c = 0u; c < split; c++) {
+            dot += (uint32_t)a[c] * b[j + c];
         }
-        /* s - 1 is a maximum within the range: keep the largest. */
-        if (s - 1 >= -limit && s - 1 <= limit && here >= prev && here > dot &&
-            (!found || here > best)) {
-            found = true;
-            best = here;
-            best_left = prev;
-            best_right = dot;
-            best_s = s - 1;
+        for (uint32_t c = split; c < GUESS_BINS; c++) {
+            dot += (uint32_t)a[c] * b[c - split];
+        }
+        /* s - 1 is a maximum within the range. */
+        if (s - 1 >= -limit && s - 1 <= limit && here >= prev && here > dot) {
+            const peak_t p = {mid + (s - 1) * (int32_t)GUESS_GROUP, (int64_t)here, (int64_t)prev,
+                              (int64_t)dot};
+            keep_peak(peaks, &count, &p);
         }
         prev = here;
         here = dot;
     }
-    if (!found) {
+    return count;
+}
+
+/* A coarse peak's rotation: the parabola's offset is in coarse bins,
+ * scaled to fine ones. */
+static fx_bam32_t coarse_rotation(const peak_t *p)
+{
+    const int64_t shift_bam = ((int64_t)p->shift * ((int64_t)1 << 31)) / (int64_t)EGO_HIST_BINS;
+    const int64_t coarse_offset = fx_bam32_diff(peak_rotation(p), 0u) - shift_bam;
+    return (fx_bam32_t)(uint64_t)(shift_bam + coarse_offset * (int64_t)GUESS_GROUP);
+}
+
+bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                         uint16_t max_shift_coarse, fx_bam32_t *turn)
+{
+    peak_t peaks[PEAKS_MAX];
+    int64_t den = 0;
+    if (coarse_peaks(current, last, centre, max_shift_coarse, peaks, &den) == 0u) {
         return false;
     }
-    const peak_t p = {mid + best_s * (int32_t)GUESS_GROUP, (int64_t)best, (int64_t)best_left,
-                      (int64_t)best_right};
-    /* The parabola's offset is in coarse bins: scale it to fine ones. */
-    const int64_t shift_bam = ((int64_t)p.shift * ((int64_t)1 << 31)) / (int64_t)EGO_HIST_BINS;
-    const int64_t coarse_offset = fx_bam32_diff(peak_rotation(&p), 0u) - shift_bam;
-    *turn = (fx_bam32_t)(uint64_t)(shift_bam + coarse_offset * (int64_t)GUESS_GROUP);
+    *turn = coarse_rotation(&peaks[0]);
     return true;
+}
+
+void ego_hist_coarse_match(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                           uint16_t max_shift_coarse, uint16_t merge_bins, ego_hist_match_t *match)
+{
+    memset(match, 0, sizeof *match);
+    peak_t peaks[PEAKS_MAX];
+    int64_t den = 0;
+    const uint8_t count = coarse_peaks(current, last, centre, max_shift_coarse, peaks, &den);
+    take_candidates(peaks, count, den, merge_bins, true, match);
 }

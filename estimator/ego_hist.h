@@ -170,13 +170,18 @@ uint32_t ego_hist_correlation_products(const ego_hist_t *current);
  * shift, as the correlation), on 1-deg bins, the peak refined by a
  * parabola. The uncentred dot product: for circular shifts its maximum is
  * the correlation's. Its work: four passes over the fine bins, then
- * EGO_HIST_GUESS_PRODUCTS products per shift (1 deg) tried, 2
- * max_shift_coarse + 3 shifts. False when a histogram is empty or no shift
- * inside the range is a maximum. */
-#define EGO_HIST_GUESS_PRODUCTS 360u /* 180 products with their index wrap: twice a
-                                         correlation product's work (measured) */
+ * EGO_COST_COARSE_SHIFT per shift (1 deg) tried, 2 max_shift_coarse + 3
+ * shifts. False when a histogram is empty or no shift inside the range is
+ * a maximum. */
 bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
                          uint16_t max_shift_coarse, fx_bam32_t *turn);
+/* The same 1-deg correlation as rotation candidates, as ego_hist_correlate
+ * gives them (up to EGO_HIST_MAX_CANDIDATES, best first, merge_bins in fine
+ * bins; the correlation normalised by the 1-deg histograms' norms), for a
+ * fifth of the resolution and a few percent of the work (the light search:
+ * ego.c). */
+void ego_hist_coarse_match(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,
+                           uint16_t max_shift_coarse, uint16_t merge_bins, ego_hist_match_t *match);
 /* Shifts in all (2 max_shift_bins + 1, capped). */
 uint32_t ego_hist_correlation_shifts(const ego_hist_correlation_t *c);
 

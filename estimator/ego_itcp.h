@@ -97,6 +97,7 @@ typedef struct {
     uint8_t iterations;      /* closed-form solutions computed, both runs */
     bool converged;
     bool aperture;
+    bool weak_rotation;      /* tracking: the scans barely tell the rotation */
     uint16_t matches;        /* in the last iteration */
     uint16_t n_main;
     uint16_t n_non_main;

@@ -93,6 +93,7 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
     }
     scan->count = 0u;
     scan->beams = 0u;
+    scan->spacing_arm = 0;
     scan->origin_x = in->origin_x;
     scan->origin_y = in->origin_y;
     if (!ego_range_check(in)) {
@@ -109,6 +110,7 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
 
     const uint64_t scale_q48 = q48_per_unit(in->range_unit_um);
     sensor_point_t prev = {0, 0, 0};
+    uint64_t range_sq = 0u; /* sum of r^2 / 2^16, Q16 m^2: < 2^46 a point */
     uint16_t prev_beam = 0u;
     fx_bam32_t prev_bearing = 0u;
     for (uint32_t k = 0u; k < in->count; k += beam_step) {
@@ -127,6 +129,7 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
         fx_q2_30_t c;
         fx_sincos(beam, &s, &c);
         const sensor_point_t here = {fx_mul_q16_q30(r, c), fx_mul_q16_q30(r, s), r};
+        range_sq += ((uint64_t)r * (uint64_t)r) >> 16;
 
         const uint16_t i = scan->count;
         scan->x[i] = fx_add_q16(in->origin_x, here.x);
@@ -151,6 +154,14 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
         prev_beam = (uint16_t)k;
         prev_bearing = beam;
         scan->count++;
+    }
+    if (scan->count > 0u) {
+        /* rad Q30 = bam x 2 pi / 4 = bam x (pi / 2 x 2^29) / 2^29. */
+        const uint64_t step_bam = (uint64_t)first_step * beam_step; /* < 2^33 */
+        const uint64_t spacing_q30 = (step_bam * 843314857u) >> 29;
+        const uint64_t rms = fx_sqrt_u64((range_sq / scan->count) << 16); /* Q16.16 m */
+        const uint64_t arm = (rms * spacing_q30) >> 30;
+        scan->spacing_arm = (fx_q16_16_t)((arm < (uint64_t)INT32_MAX) ? arm : (uint64_t)INT32_MAX);
     }
     return EGO_PREP_OK;
 }

@@ -44,6 +44,9 @@ typedef struct {
     uint16_t beams;                      /* beams the range scan had */
     fx_q16_16_t origin_x;                /* the sensor in the vehicle frame */
     fx_q16_16_t origin_y;
+    fx_q16_16_t spacing_arm;             /* the points' RMS range times the beam
+                                            spacing, m: how far a turn of one
+                                            spacing moves them (ego_track.c) */
     fx_q16_16_t x[EGO_MAX_POINTS];       /* vehicle frame, metres */
     fx_q16_16_t y[EGO_MAX_POINTS];
     fx_bam32_t bearing[EGO_MAX_POINTS];  /* beam direction from the origin,

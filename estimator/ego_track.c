@@ -378,10 +378,14 @@ static int64_t matches(const ego_track_run_t *run)
     return run->group[0].n + run->group[1].n;
 }
 
+/* The lever arm (0.1 m, squared, Q14 m^2) under which the rotation counts
+ * as unobserved: a 1-deg turn then moves points off their surfaces by under
+ * 2 mm, below the range noise. */
 /* The step (dx, dy, dtheta) from the pass's normal equations: each group's
  * means, the groups averaged (eq. 10's equal weights), in Q14, damped; false
  * when there is nothing to solve. */
-EGO_NOINLINE static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t *dy, int64_t *dtheta)
+EGO_NOINLINE static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t *dy, int64_t *dtheta,
+                               bool *weak_rotation)
 {
     int64_t a[6] = {0, 0, 0, 0, 0, 0};
     int64_t b[3] = {0, 0, 0};
@@ -444,6 +448,14 @@ EGO_NOINLINE static bool solve(const ego_track_run_t *run, int64_t *dx, int64_t 
     if (det <= 0) {
         return false;
     }
+    /* The rotation's own information, det / c22 (what is left of a22 once
+     * the translation explains what it can, Q14 m^2), no more than the
+     * lever arm the beam spacing alone gives (ego_scan.h): every surface
+     * faces the scanner (a ring around it), and a turn only moves the
+     * points along it, one spacing onto the next beams'. */
+    const int64_t most = (int64_t)16 << 16; /* 16 m: no ring is that coarse */
+    const int64_t spacing = (run->current->spacing_arm < most) ? run->current->spacing_arm : most;
+    *weak_rotation = det < ((spacing * spacing) >> 18) * c22;
     *dx = div_q16(c00 * b0 + c01 * b1 + c02 * b2, det);
     *dy = div_q16(c01 * b0 + c11 * b1 + c12 * b2, det);
     *dtheta = div_q16(c02 * b0 + c12 * b1 + c22 * b2, det); /* Q16.16 rad */
@@ -468,7 +480,8 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
     int64_t dx = 0;
     int64_t dy = 0;
     int64_t dtheta = 0;
-    if (matches(run) < (int64_t)params->min_matches || !solve(run, &dx, &dy, &dtheta)) {
+    if (matches(run) < (int64_t)params->min_matches ||
+        !solve(run, &dx, &dy, &dtheta, &run->weak_rotation)) {
         run->finished = true;
         run->failed = true;
         return;
@@ -571,6 +584,7 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
     if (n > 0) {
         result->residual = (fx_q16_16_t)fx_sqrt_u64((g[0].sum_sq + g[1].sum_sq) / (uint64_t)n);
     }
+    result->weak_rotation = run->weak_rotation;
     result->aperture = g[0].n > 0 &&
                        ((int64_t)g[1].n << 30) < (int64_t)run->params->aperture_ratio * g[0].n;
     return (run->failed || n < (int64_t)run->params->min_matches) ? EGO_ITCP_ERR_FEW_MATCHES

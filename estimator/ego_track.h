@@ -99,6 +99,7 @@ typedef struct {
     bool finished;
     bool converged;
     bool failed;
+    bool weak_rotation; /* the last pass's rotation was barely observed */
     ego_track_sums_t group[2];
     /* The unit normals of the last scan's segments (a -> a + 1), Q1.14,
      * each computed at its first use in the run and kept: (0, 0) not yet. */

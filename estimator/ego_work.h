@@ -28,12 +28,15 @@ typedef struct {
 #define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per beam kept ... */
 #define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
-#define EGO_COST_TFIT_CHORD 150u         /* one chord tangent (one point) */
+#define EGO_COST_TFIT_CHORD 200u         /* one chord tangent (one point) */
 #define EGO_COST_TFIT_ROBUST 6500u       /* one robust tangent fit (plain + 2 passes) */
 #define EGO_COST_AH_POINT 185u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */
 #define EGO_COST_HTAH_VOTE 70u           /* ... plus per vote cast */
 #define EGO_COST_CORRELATE_PRODUCT 16u   /* histogram correlation, per bin product */
+#define EGO_COST_COARSE_SHIFT 4200u      /* a 1-deg correlation shift: 180 products (the
+                                            turn guess measured 3.7 k instructions a
+                                            shift with a wrap test per product) */
 #define EGO_COST_MATCH_POINT 720u        /* ITCP / coarse probe: one point located */
 #define EGO_COST_MATCH_STEP 31u          /* ... plus per scan point walked past */
 #define EGO_COST_MATCH_SEGMENT 460u      /* ... plus per segment distance computed */

@@ -395,6 +395,33 @@ static void test_ego_budget_holds_on_adversarial_scans(void)
     }
 }
 
+/* A ring of equal ranges around the scanner: every surface faces it, so a
+ * turn only moves the points along the ring (and by one beam spacing, onto
+ * the next beams'). Tracked, budgeted or not, every line after the first
+ * says the rotation was not measured. */
+static void test_ego_ring_flags_its_rotation(void)
+{
+    for (unsigned budget = 0u; budget < 2u; budget++) {
+        ego_defaults(&g_params);
+        if (budget == 1u) {
+            ego_budget_defaults(&g_params);
+        }
+        ego_reset(&g_state);
+        for (unsigned k = 0u; k < 8u; k++) {
+            adversarial_lms(ALL_AT_MAX, k);
+            ego_output_t out;
+            TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
+                                                      26667u * k, &out));
+            char msg[96];
+            (void)snprintf(msg, sizeof msg, "budget %u scan %u flags 0x%x", budget, k,
+                           (unsigned)out.flags);
+            if (k > 0u && (out.flags & (EGO_FLAG_RECOVERING | EGO_FLAG_PREDICTED)) == 0u) {
+                TEST_ASSERT_TRUE_MESSAGE((out.flags & EGO_FLAG_WEAK_ROTATION) != 0u, msg);
+            }
+        }
+    }
+}
+
 /* The budget follows the interval a scan leaves: at least work_min (a
  * 181-value scan at 75 Hz), else 35.62 M units per second of it (a
  * keyframe 2.92 s after the last: 104 M). */
@@ -547,6 +574,7 @@ int main(void)
     RUN_TEST(test_ego_long_interval_and_sparse_scans);
     RUN_TEST(test_ego_budget_holds_on_adversarial_scans);
     RUN_TEST(test_ego_budget_follows_the_interval);
+    RUN_TEST(test_ego_ring_flags_its_rotation);
     RUN_TEST(test_ego_unbounded_answers_every_scan);
     RUN_TEST(test_ego_budget_recovers_from_a_jump_without_a_hole);
     return UNITY_END();

@@ -167,6 +167,32 @@ static void test_ego_scan_beam_spacing_thins_fine_scans(void)
     }
 }
 
+/* The spacing's lever arm: the points' RMS range times the kept beams'
+ * spacing, against a double oracle on a wall and, thinned to 1 deg, on it
+ * again. */
+static void test_ego_scan_spacing_arm(void)
+{
+    ego_prep_params_t p;
+    ego_prep_defaults(&p);
+    for (unsigned thin = 0u; thin < 2u; thin++) {
+        make_wall_scan(361u, LMS_UNIT_CM, 7.5);
+        p.beam_spacing = (thin == 1u) ? FX_BAM32_DEG_C(1.0) : 0u;
+        prepare(&p);
+        double sum = 0.0;
+        for (uint16_t i = 0u; i < g_scan.count; i++) {
+            const double x = fx_q16_16_to_double(g_scan.x[i]);
+            const double y = fx_q16_16_to_double(g_scan.y[i]);
+            sum += x * x + y * y;
+        }
+        const double spacing = ((thin == 1u) ? 1.0 : 0.5) * FX_HOST_PI / 180.0;
+        const double oracle = sqrt(sum / g_scan.count) * spacing;
+        const double got = fx_q16_16_to_double(g_scan.spacing_arm);
+        char msg[80];
+        (void)snprintf(msg, sizeof msg, "thin %u: %.5f m, oracle %.5f m", thin, got, oracle);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(got - oracle) < 1e-3 * oracle + 1e-4, msg);
+    }
+}
+
 static void test_ego_scan_centimetres_and_mount(void)
 {
     ego_prep_params_t p;
@@ -304,6 +330,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_ego_scan_wall_in_every_layout);
     RUN_TEST(test_ego_scan_beam_spacing_thins_fine_scans);
+    RUN_TEST(test_ego_scan_spacing_arm);
     RUN_TEST(test_ego_scan_centimetres_and_mount);
     RUN_TEST(test_ego_scan_special_values_leave_gaps);
     RUN_TEST(test_ego_scan_range_jumps_break);

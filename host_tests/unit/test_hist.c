@@ -241,6 +241,58 @@ static void test_hist_turn_guess_finds_the_turn(void)
     TEST_ASSERT_FALSE(ego_hist_turn_guess(&g_hc, &g_hl, 0u, 15u, &turn));
 }
 
+/* The 1-deg correlation as candidates (the light search): on the AH
+ * histograms of a turned room the best is the turn within 0.5 deg, its
+ * correlation the normalised dot product of the 1-deg sums at its whole
+ * degree against a double oracle, and an empty histogram gives none. */
+static void test_hist_coarse_match_finds_the_turn(void)
+{
+    const double thetas[] = {0.0, 12.3, -27.71, 40.4};
+    for (unsigned k = 0u; k < 4u; k++) {
+        room_scan(0.2, 0.1, 0.0, 361u, &g_last);
+        room_scan(0.2, 0.1, thetas[k], 361u, &g_current);
+        ego_hist_params_t p;
+        ego_hist_defaults(&p);
+        p.kind = EGO_HIST_AH;
+        (void)ego_hist_build(&g_last, &p, &g_hl);
+        (void)ego_hist_build(&g_current, &p, &g_hc);
+        ego_hist_match_t m;
+        ego_hist_coarse_match(&g_hc, &g_hl, 0u, 45u, 15u, &m);
+        TEST_ASSERT_TRUE(m.count >= 1u);
+        const double got = deg_of_bam(fx_bam32_diff(m.candidate[0].rotation, 0u));
+        /* The oracle: the 1-deg sums' normalised dot at the nearest degree. */
+        const int shift = (int)lround(got);
+        double dot = 0.0;
+        double na = 0.0;
+        double nb = 0.0;
+        for (unsigned c = 0u; c < EGO_HIST_BINS / 5u; c++) {
+            double a = 0.0;
+            double b = 0.0;
+            double bb = 0.0;
+            for (unsigned q = 0u; q < 5u; q++) {
+                a += g_hc.bin[c * 5u + q];
+                b += g_hl.bin[(unsigned)(((int)(c * 5u + q) + shift * 5 + 10 * (int)EGO_HIST_BINS) %
+                                         (int)EGO_HIST_BINS)];
+                bb += g_hl.bin[c * 5u + q];
+            }
+            dot += a * b;
+            na += a * a;
+            nb += bb * bb;
+        }
+        const double oracle = dot / sqrt(na * nb);
+        const double corr = (double)m.candidate[0].correlation / 1073741824.0;
+        char msg[128];
+        (void)snprintf(msg, sizeof msg, "turn %.2f: candidate %.3f deg, c %.4f, oracle %.4f",
+                       thetas[k], got, corr, oracle);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(got - thetas[k]) < 0.5, msg);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(corr - oracle) < 0.002, msg);
+    }
+    memset(&g_hc, 0, sizeof g_hc);
+    ego_hist_match_t m;
+    ego_hist_coarse_match(&g_hc, &g_hl, 0u, 45u, 15u, &m);
+    TEST_ASSERT_EQUAL_UINT8(0u, m.count);
+}
+
 static void test_hist_flat_histogram_gives_no_candidate(void)
 {
     memset(&g_hc, 0, sizeof g_hc);
@@ -470,6 +522,7 @@ int main(void)
     RUN_TEST(test_hist_htah_votes_within_hah);
     RUN_TEST(test_hist_correlation_finds_the_rotation);
     RUN_TEST(test_hist_turn_guess_finds_the_turn);
+    RUN_TEST(test_hist_coarse_match_finds_the_turn);
     RUN_TEST(test_hist_flat_histogram_gives_no_candidate);
     RUN_TEST(test_hist_correlation_of_a_shifted_copy);
     RUN_TEST(test_hist_correlation_around_a_centre);
