@@ -358,6 +358,14 @@ static void adversarial_lms(unsigned kind, unsigned k)
     }
 }
 
+/* Scan k of an adversarial kind through the estimator, 26.667 ms apart. */
+static void adversarial_step(unsigned kind, unsigned k, ego_output_t *out)
+{
+    adversarial_lms(kind, k);
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
+                                              26667u * k, out));
+}
+
 /* With the sensor-rate budget (ego_budget_defaults), no scan spends more
  * work units than its budget, whatever it holds, and a scan that claims no
  * motion says so. */
@@ -369,10 +377,8 @@ static void test_ego_budget_holds_on_adversarial_scans(void)
         ego_reset(&g_state);
         uint64_t spent = 0u;
         for (unsigned k = 0u; k < 12u; k++) {
-            adversarial_lms(kind, k);
             ego_output_t out;
-            TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
-                                                      26667u * k, &out));
+            adversarial_step(kind, k, &out);
             spent += out.work;
             if (k == 0u) {
                 TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
@@ -408,10 +414,8 @@ static void test_ego_ring_flags_its_rotation(void)
         }
         ego_reset(&g_state);
         for (unsigned k = 0u; k < 8u; k++) {
-            adversarial_lms(ALL_AT_MAX, k);
             ego_output_t out;
-            TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
-                                                      26667u * k, &out));
+            adversarial_step(ALL_AT_MAX, k, &out);
             char msg[96];
             (void)snprintf(msg, sizeof msg, "budget %u scan %u flags 0x%x", budget, k,
                            (unsigned)out.flags);
@@ -456,10 +460,8 @@ static void test_ego_unbounded_answers_every_scan(void)
     ego_defaults(&g_params);
     ego_reset(&g_state);
     for (unsigned k = 0u; k < 4u; k++) {
-        adversarial_lms(ALTERNATING, k);
         ego_output_t out;
-        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
-                                                  26667u * k, &out));
+        adversarial_step(ALTERNATING, k, &out);
         TEST_ASSERT_EQUAL_HEX16(0u, out.flags & EGO_FLAG_RECOVERING);
         TEST_ASSERT_EQUAL_UINT32(UINT32_MAX, out.work_limit);
         TEST_ASSERT_TRUE(out.work > 0u);

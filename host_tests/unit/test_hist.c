@@ -138,9 +138,10 @@ static double ref_correlation(const ego_hist_t *c, const ego_hist_t *l, int j)
     return num / sqrt(sc * sl);
 }
 
-static void check_rotation(ego_hist_kind_t kind, double theta_deg, double tolerance_deg)
+/* The histograms (g_hl, g_hc) of the room seen from one place, then
+ * turned by theta_deg. */
+static void turned_room(ego_hist_kind_t kind, double theta_deg)
 {
-    /* Same place, the vehicle turned by theta: R(theta) P = P'. */
     room_scan(0.2, 0.1, 0.0, 361u, &g_last);
     room_scan(0.2, 0.1, theta_deg, 361u, &g_current);
     ego_hist_params_t p;
@@ -148,6 +149,12 @@ static void check_rotation(ego_hist_kind_t kind, double theta_deg, double tolera
     p.kind = kind;
     (void)ego_hist_build(&g_last, &p, &g_hl);
     (void)ego_hist_build(&g_current, &p, &g_hc);
+}
+
+static void check_rotation(ego_hist_kind_t kind, double theta_deg, double tolerance_deg)
+{
+    /* Same place, the vehicle turned by theta: R(theta) P = P'. */
+    turned_room(kind, theta_deg);
     ego_hist_match_t m;
     ego_hist_correlate(&g_hc, &g_hl, 0u, 250u, 15u, &m);
     TEST_ASSERT_TRUE(m.count >= 1u);
@@ -197,13 +204,7 @@ static void test_hist_turn_guess_finds_the_turn(void)
 {
     const double thetas[] = {0.0, 3.3, -7.71, 10.4, -14.2};
     for (unsigned k = 0u; k < 5u; k++) {
-        room_scan(0.2, 0.1, 0.0, 361u, &g_last);
-        room_scan(0.2, 0.1, thetas[k], 361u, &g_current);
-        ego_hist_params_t p;
-        ego_hist_defaults(&p);
-        p.kind = EGO_HIST_AH;
-        (void)ego_hist_build(&g_last, &p, &g_hl);
-        (void)ego_hist_build(&g_current, &p, &g_hc);
+        turned_room(EGO_HIST_AH, thetas[k]);
         fx_bam32_t turn = 0u;
         /* Centred 2 deg off the truth, as a prediction would be. */
         const fx_bam32_t centre = (fx_bam32_t)(int32_t)lround((thetas[k] + 2.0) / 180.0 * 2147483648.0);
@@ -249,13 +250,7 @@ static void test_hist_coarse_match_finds_the_turn(void)
 {
     const double thetas[] = {0.0, 12.3, -27.71, 40.4};
     for (unsigned k = 0u; k < 4u; k++) {
-        room_scan(0.2, 0.1, 0.0, 361u, &g_last);
-        room_scan(0.2, 0.1, thetas[k], 361u, &g_current);
-        ego_hist_params_t p;
-        ego_hist_defaults(&p);
-        p.kind = EGO_HIST_AH;
-        (void)ego_hist_build(&g_last, &p, &g_hl);
-        (void)ego_hist_build(&g_current, &p, &g_hc);
+        turned_room(EGO_HIST_AH, thetas[k]);
         ego_hist_match_t m;
         ego_hist_coarse_match(&g_hc, &g_hl, 0u, 45u, 15u, &m);
         TEST_ASSERT_TRUE(m.count >= 1u);
