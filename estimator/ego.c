@@ -390,8 +390,6 @@ static bool refine_slot(ego_state_t *state, const ego_params_t *params, uint8_t 
 static void take_rotations(ego_search_t *se, const ego_params_t *params, const ego_hist_match_t *hm)
 {
     uint8_t n = 0u;
-    /* The prior's rotation first; under a budget a trusted prediction's
-     * too (the histogram of a thinned scan is coarse). */
     const bool prediction_first = se->have_prior || (se->light && se->have_prediction);
     if (prediction_first) {
         se->rotation[n] = se->predicted.theta;
@@ -489,10 +487,10 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
 {
     ego_search_t *se = &state->search;
     const uint8_t cur = other_slot(state->last);
-    const fx_bam32_t expected = se->have_prior ? se->predicted.theta : 0u;
     if (se->light) {
         return correlate_light(state, params);
     }
+    const fx_bam32_t expected = se->have_prior ? se->predicted.theta : 0u;
     ego_hist_match_t hm;
     if (se->cursor == 0u) {
         ego_hist_correlation_start(&se->correlation_run, expected, params->max_rotation_bins,
@@ -975,11 +973,11 @@ static uint32_t beams_with_range(const ego_range_scan_t *scan, uint32_t step)
 }
 
 /* Every how many beams a point is kept so that preparing the points and
- * tracking them fits the scan's budget (1: all; at most 8, ego_scan.h). */
+ * tracking them fits the scan's budget (1: all; at most 8, ego_scan.h); valid: the
+ * beams with a range. */
 static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t *scan,
-                                uint32_t prepare_cost)
+                                uint32_t valid, uint32_t prepare_cost)
 {
-    const uint32_t valid = beams_with_range(scan, 1u);
     /* The scan's bookkeeping (EGO_COST_SCAN) is paid already. */
     const uint64_t left = ego_work_left(&state->work);
     const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * EGO_TRACK_TYPICAL_POINT;
@@ -1006,9 +1004,10 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     const uint32_t tangent_cost = plain ? EGO_COST_TFIT_PLAIN : EGO_COST_TFIT_CHORD;
     const uint32_t per_point = EGO_COST_PREP_BEAM + tangent_cost + EGO_COST_AH_POINT;
     ego_prep_params_t prep = params->prep;
+    const uint32_t valid = beams_with_range(scan, 1u);
     uint32_t step = 1u;
     if (!plain) {
-        step = beams_per_point(state, scan, per_point);
+        step = beams_per_point(state, scan, valid, per_point);
         const uint64_t first_step = ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u);
         const uint64_t spacing = first_step * step;
         prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
@@ -1016,7 +1015,7 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
                                 : prep.beam_spacing;
     }
     /* Charged per point: beams without a range cost their pass only. */
-    const uint32_t kept = beams_with_range(scan, step);
+    const uint32_t kept = (step == 1u) ? valid : beams_with_range(scan, step);
     const uint32_t cost = kept * per_point + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED;
     if (!ego_work_allows(&state->work, cost)) {
         return false;

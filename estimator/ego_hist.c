@@ -579,10 +579,22 @@ uint32_t ego_hist_correlation_products(const ego_hist_t *current)
     return products;
 }
 
+/* Fine bins per coarse bin of the turn guess (1 deg). */
+#define GUESS_GROUP 5u
+#define GUESS_BINS (EGO_HIST_BINS / GUESS_GROUP)
+_Static_assert(EGO_HIST_BINS % GUESS_GROUP == 0u, "whole coarse bins");
+
+/* A coarse peak's rotation: the parabola's offset is in coarse bins,
+ * scaled to fine ones. */
+static fx_bam32_t coarse_rotation(const peak_t *p)
+{
+    const int64_t shift_bam = ((int64_t)p->shift * ((int64_t)1 << 31)) / (int64_t)EGO_HIST_BINS;
+    const int64_t coarse_offset = fx_bam32_diff(peak_rotation(p), 0u) - shift_bam;
+    return (fx_bam32_t)(uint64_t)(shift_bam + coarse_offset * (int64_t)GUESS_GROUP);
+}
+
 /* The candidates of sorted peaks: best first, a peak within merge_bins of
  * a better one kept dropped; coarse: 1-deg peaks (coarse_rotation). */
-static fx_bam32_t coarse_rotation(const peak_t *p);
-
 static void take_candidates(const peak_t *peaks, uint8_t count, int64_t den, uint16_t merge_bins,
                             bool coarse, ego_hist_match_t *match)
 {
@@ -626,10 +638,6 @@ void ego_hist_correlate(const ego_hist_t *current, const ego_hist_t *last, fx_ba
     ego_hist_correlation_result(&c, match);
 }
 
-/* Fine bins per coarse bin of the turn guess (1 deg). */
-#define GUESS_GROUP 5u
-#define GUESS_BINS (EGO_HIST_BINS / GUESS_GROUP)
-_Static_assert(EGO_HIST_BINS % GUESS_GROUP == 0u, "whole coarse bins");
 
 /* A histogram in 1-deg bins from fine bin `from` on (wrapping), scaled
  * right by `shift` and left by `up`; the largest sum before scaling. */
@@ -732,15 +740,6 @@ static uint8_t coarse_peaks(const ego_hist_t *current, const ego_hist_t *last, f
         here = dot;
     }
     return count;
-}
-
-/* A coarse peak's rotation: the parabola's offset is in coarse bins,
- * scaled to fine ones. */
-static fx_bam32_t coarse_rotation(const peak_t *p)
-{
-    const int64_t shift_bam = ((int64_t)p->shift * ((int64_t)1 << 31)) / (int64_t)EGO_HIST_BINS;
-    const int64_t coarse_offset = fx_bam32_diff(peak_rotation(p), 0u) - shift_bam;
-    return (fx_bam32_t)(uint64_t)(shift_bam + coarse_offset * (int64_t)GUESS_GROUP);
 }
 
 bool ego_hist_turn_guess(const ego_hist_t *current, const ego_hist_t *last, fx_bam32_t centre,

@@ -378,9 +378,6 @@ static int64_t matches(const ego_track_run_t *run)
     return run->group[0].n + run->group[1].n;
 }
 
-/* The lever arm (0.1 m, squared, Q14 m^2) under which the rotation counts
- * as unobserved: a 1-deg turn then moves points off their surfaces by under
- * 2 mm, below the range noise. */
 /* The step (dx, dy, dtheta) from the pass's normal equations: each group's
  * means, the groups averaged (eq. 10's equal weights), in Q14, damped; false
  * when there is nothing to solve. */
