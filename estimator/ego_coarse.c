@@ -457,18 +457,31 @@ bool ego_coarse_step(ego_coarse_run_t *r, ego_work_t *work)
             r->around.theta += (fx_bam32_t)((uint32_t)r->rotation * p->rotation_step);
             if (r->scratch != NULL) {
                 r->phase = PHASE_PROJECT;
+                r->direction = 0u;
                 break;
             }
             ego_work_spend(work, COST_POSE);
             score_begin(r, &r->around, coarse_sigma, 0u, true);
             break;
         case PHASE_PROJECT: {
-            const uint32_t most = ego_project_cost_max(r->last, r->current, p->window, p->step);
+            /* A direction a step (a sensor-rate budget may not hold the
+             * whole ranking of a 361-value scan's window), then the cells. */
+            const bool ranking = r->direction >= EGO_PROJECT_DIRS;
+            const uint32_t most = ranking ? ego_project_rank_cost(p->window, p->step)
+                                          : ego_project_direction_cost_max(r->last, r->current,
+                                                                           p->window, p->step);
             if (!ego_work_allows(work, most)) {
                 return false;
             }
-            ego_work_spend(work, ego_project_cells(r->last, r->current, r->main_direction, &r->around,
-                                                   p->window, p->step, r->scratch, &r->cells));
+            if (!ranking) {
+                ego_work_spend(work, ego_project_direction(r->last, r->current, r->main_direction,
+                                                           &r->around, p->window, p->step,
+                                                           r->direction, r->scratch));
+                r->direction++;
+                break;
+            }
+            ego_work_spend(work, ego_project_rank(r->main_direction, &r->around, p->window, p->step,
+                                                  r->scratch, &r->cells));
             /* The ranking overwrote the prober's cached normals. */
             ego_track_probe_start(r->along, r->last, r->along_params);
             grid_begin(&r->grid, &r->around, 0, p->step, coarse_sigma, &r->around, 0u);

@@ -116,6 +116,7 @@ typedef struct {
     const ego_track_params_t *along_params;
     ego_project_scratch_t *scratch; /* projected (ego_coarse_projected), or NULL */
     ego_project_cells_t cells;
+    uint8_t direction;      /* projected: the next direction to correlate */
     uint8_t cell;           /* the next of cells' 3 x 3 neighbourhoods to score */
     uint64_t cells_best;    /* projected: the best cell score of the rotations so far */
 } ego_coarse_run_t;

@@ -51,13 +51,25 @@ static uint32_t cells_units(int32_t n)
     return (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u) * EGO_COST_PROJECT_CELL;
 }
 
-uint32_t ego_project_cost_max(const ego_scan_t *last, const ego_scan_t *current,
-                              fx_q16_16_t window, fx_q16_16_t bin)
+uint32_t ego_project_direction_cost_max(const ego_scan_t *last, const ego_scan_t *current,
+                                        fx_q16_16_t window, fx_q16_16_t bin)
 {
     const int32_t n = ego_project_side(window, bin);
     const uint32_t shifts = 2u * (uint32_t)shifts_of(n) + 1u;
     const uint32_t filled = (current->count < EGO_PROJECT_BINS) ? current->count : EGO_PROJECT_BINS;
-    return EGO_PROJECT_DIRS * direction_units(last, current, filled, shifts) + cells_units(n);
+    return direction_units(last, current, filled, shifts);
+}
+
+uint32_t ego_project_rank_cost(fx_q16_16_t window, fx_q16_16_t bin)
+{
+    return cells_units(ego_project_side(window, bin));
+}
+
+uint32_t ego_project_cost_max(const ego_scan_t *last, const ego_scan_t *current,
+                              fx_q16_16_t window, fx_q16_16_t bin)
+{
+    return EGO_PROJECT_DIRS * ego_project_direction_cost_max(last, current, window, bin) +
+           ego_project_rank_cost(window, bin);
 }
 
 /* floor(p / bin) for bin > 0. */
@@ -194,10 +206,36 @@ static void keep_best(ego_project_cells_t *out, uint64_t *score, int32_t *at, in
     }
 }
 
-uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
-                           fx_bam32_t main_direction, const ego_pose_t *around,
-                           fx_q16_16_t window, fx_q16_16_t bin, ego_project_scratch_t *scratch,
-                           ego_project_cells_t *out)
+/* Direction k: the last scan's main direction turned by k * 180 / DIRS deg;
+ * its unit vector (c, s) in Q2.30. */
+static void direction_of(fx_bam32_t main_direction, unsigned k, fx_q2_30_t *s, fx_q2_30_t *c)
+{
+    fx_sincos(main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS)), s, c);
+}
+
+uint32_t ego_project_direction(const ego_scan_t *last, const ego_scan_t *current,
+                               fx_bam32_t main_direction, const ego_pose_t *around,
+                               fx_q16_16_t window, fx_q16_16_t bin, unsigned k,
+                               ego_project_scratch_t *scratch)
+{
+    const int32_t n = ego_project_side(window, bin);
+    if (n == 0 || k >= EGO_PROJECT_DIRS) {
+        return 0u;
+    }
+    fx_q2_30_t rs = 0;
+    fx_q2_30_t rc = 0;
+    fx_sincos(around->theta, &rs, &rc);
+    fx_q2_30_t s = 0;
+    fx_q2_30_t c = 0;
+    direction_of(main_direction, k, &s, &c);
+    const fx_bam32_t dir = main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS));
+    return correlate_direction(last, current, around, rs, rc, dir, s, c, bin, shifts_of(n), scratch,
+                               k);
+}
+
+uint32_t ego_project_rank(fx_bam32_t main_direction, const ego_pose_t *around, fx_q16_16_t window,
+                          fx_q16_16_t bin, const ego_project_scratch_t *scratch,
+                          ego_project_cells_t *out)
 {
     out->count = 0u;
     const int32_t n = ego_project_side(window, bin);
@@ -205,18 +243,10 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
         return 0u;
     }
     const int32_t m = shifts_of(n);
-    uint32_t units = 0u;
-    /* Per direction: its unit vector in Q2.30 bins per bin of motion. */
     fx_q2_30_t s[EGO_PROJECT_DIRS];
     fx_q2_30_t c[EGO_PROJECT_DIRS];
-    fx_q2_30_t rs = 0;
-    fx_q2_30_t rc = 0;
-    fx_sincos(around->theta, &rs, &rc);
     for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
-        const fx_bam32_t dir = main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS));
-        fx_sincos(dir, &s[k], &c[k]);
-        units += correlate_direction(last, current, around, rs, rc, dir, s[k], c[k], bin, m,
-                                     scratch, k);
+        direction_of(main_direction, k, &s[k], &c[k]);
     }
     uint64_t score[EGO_PROJECT_CELLS];
     int32_t at[2u * EGO_PROJECT_CELLS];
@@ -252,5 +282,18 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
             }
         }
     }
-    return units + cells_units(n);
+    return cells_units(n);
+}
+
+uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
+                           fx_bam32_t main_direction, const ego_pose_t *around,
+                           fx_q16_16_t window, fx_q16_16_t bin, ego_project_scratch_t *scratch,
+                           ego_project_cells_t *out)
+{
+    uint32_t units = 0u;
+    for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
+        units += ego_project_direction(last, current, main_direction, around, window, bin, k,
+                                       scratch);
+    }
+    return units + ego_project_rank(main_direction, around, window, bin, scratch, out);
 }

@@ -74,4 +74,21 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
                            fx_q16_16_t window, fx_q16_16_t bin, ego_project_scratch_t *scratch,
                            ego_project_cells_t *out);
 
+/* ego_project_cells in steps, for a caller whose meter may not hold it
+ * all at once (a sensor-rate budget: on a 361-value scan the whole costs
+ * about one): the correlation of direction k (0 .. EGO_PROJECT_DIRS - 1,
+ * each into scratch, at most ego_project_direction_cost_max units), then,
+ * with every direction's in scratch, the ranking (ego_project_rank_cost
+ * units). The same arguments each step; the scratch untouched between. */
+uint32_t ego_project_direction_cost_max(const ego_scan_t *last, const ego_scan_t *current,
+                                        fx_q16_16_t window, fx_q16_16_t bin);
+uint32_t ego_project_direction(const ego_scan_t *last, const ego_scan_t *current,
+                               fx_bam32_t main_direction, const ego_pose_t *around,
+                               fx_q16_16_t window, fx_q16_16_t bin, unsigned k,
+                               ego_project_scratch_t *scratch);
+uint32_t ego_project_rank_cost(fx_q16_16_t window, fx_q16_16_t bin);
+uint32_t ego_project_rank(fx_bam32_t main_direction, const ego_pose_t *around, fx_q16_16_t window,
+                          fx_q16_16_t bin, const ego_project_scratch_t *scratch,
+                          ego_project_cells_t *out);
+
 #endif /* EGO_PROJECT_H */

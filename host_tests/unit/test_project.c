@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "ego.h"
 #include "ego_project.h"
 #include "ego_tfit.h"
 #include "fx_host.h"
@@ -174,6 +175,48 @@ static void test_projection_of_nothing(void)
     TEST_ASSERT_EQUAL_INT32(EGO_PROJECT_MAX_SIDE, ego_project_side(FX_Q16_16_C(4.0), FX_Q16_16_C(0.2)));
 }
 
+/* The ranking in steps (a direction a step, then the cells) gives the
+ * cells of the ranking at once, each step within its own bound; and every
+ * step of the light search's rankings (ego.c: the wide window, 1.6 m at
+ * 0.2 m, or the first, 4 m at 0.4 m: at most 10 cells each side) fits the
+ * smallest default budget beside a scan's bookkeeping for scans up to the
+ * capacity, so a search that ranks in steps always goes on. */
+static void test_projection_in_steps(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(1.1, -0.6, 8.0, &g_current);
+    const ego_pose_t around = {(fx_bam32_t)(int32_t)llround(8.0 / 360.0 * 4294967296.0), 0, 0};
+    const fx_q16_16_t win = FX_Q16_16_C(1.6);
+    const fx_q16_16_t bin = FX_Q16_16_C(0.2);
+    ego_project_cells_t whole;
+    const uint32_t whole_units =
+        ego_project_cells(&g_last, &g_current, 0u, &around, win, bin, &g_scratch, &whole);
+    memset(&g_scratch, 0xA5, sizeof g_scratch);
+    uint32_t units = 0u;
+    for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
+        const uint32_t step = ego_project_direction(&g_last, &g_current, 0u, &around, win, bin, k,
+                                                    &g_scratch);
+        TEST_ASSERT_TRUE(step > 0u);
+        TEST_ASSERT_TRUE(step <= ego_project_direction_cost_max(&g_last, &g_current, win, bin));
+        units += step;
+    }
+    ego_project_cells_t stepped;
+    const uint32_t rank = ego_project_rank(0u, &around, win, bin, &g_scratch, &stepped);
+    TEST_ASSERT_EQUAL_UINT32(ego_project_rank_cost(win, bin), rank);
+    TEST_ASSERT_EQUAL_UINT32(whole_units, units + rank);
+    TEST_ASSERT_EQUAL_UINT(whole.count, stepped.count);
+    TEST_ASSERT_EQUAL_MEMORY(whole.cell, stepped.cell, sizeof whole.cell[0] * whole.count);
+    TEST_ASSERT_TRUE(fabs(metres(stepped.cell[0].x) - 1.1) <= 0.2 + 1e-4);
+    TEST_ASSERT_TRUE(fabs(metres(stepped.cell[0].y) + 0.6) <= 0.2 + 1e-4);
+    /* The dearest step: full scans, the light search's widest ranking. */
+    g_last.count = EGO_MAX_POINTS;
+    g_current.count = EGO_MAX_POINTS;
+    const fx_q16_16_t widest = 10 * bin;
+    const uint32_t room = EGO_DEFAULT_WORK_MIN - EGO_COST_SCAN;
+    TEST_ASSERT_TRUE(ego_project_direction_cost_max(&g_last, &g_current, widest, bin) <= room);
+    TEST_ASSERT_TRUE(ego_project_rank_cost(widest, bin) <= room);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -182,5 +225,6 @@ int main(void)
     RUN_TEST(test_projection_window_off_centre);
     RUN_TEST(test_projection_against_the_double_oracle);
     RUN_TEST(test_projection_of_nothing);
+    RUN_TEST(test_projection_in_steps);
     return UNITY_END();
 }
