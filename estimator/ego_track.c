@@ -36,6 +36,7 @@ void ego_track_defaults(ego_track_params_t *params)
     memset(params, 0, sizeof *params);
     params->radius_start = FX_Q16_16_C(0.3);
     params->radius = FX_Q16_16_C(0.05);
+    params->radius_min = FX_Q16_16_C(0.015);
     params->max_iterations = 10u;
     params->converge_translation = FX_Q16_16_C(0.0002);
     params->converge_rotation = FX_BAM32_DEG_C(0.002);
@@ -87,11 +88,11 @@ static void begin_pass(ego_track_run_t *run)
 }
 
 void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
-                     fx_bam32_t main_direction, const ego_pose_t *initial, bool until_budget,
+                     fx_bam32_t main_direction, const ego_pose_t *initial, bool tracking,
                      const ego_track_params_t *params)
 {
     memset(run, 0, sizeof *run);
-    run->until_budget = until_budget;
+    run->tracking = tracking;
     run->last = last;
     run->current = current;
     run->params = params;
@@ -470,6 +471,24 @@ static uint32_t pass_point_units(const ego_track_run_t *run)
     return (mean > EGO_TRACK_TYPICAL_POINT) ? mean : EGO_TRACK_TYPICAL_POINT;
 }
 
+/* The radius of the next pass: 0.3 m, then a third of the last down to
+ * the radius; tracking's down to 3 RMS distances of this pass, within
+ * [radius_min, radius] (ego_track_start). */
+static fx_q16_16_t next_radius(const ego_track_run_t *run)
+{
+    const ego_track_params_t *params = run->params;
+    int64_t floor = params->radius;
+    const int64_t n = matches(run);
+    if (run->tracking && n > 0) {
+        const uint64_t sum_sq = run->group[0].sum_sq + run->group[1].sum_sq;
+        const int64_t trimmed = 3 * (int64_t)fx_sqrt_u64(sum_sq / (uint64_t)n);
+        floor = (trimmed < params->radius_min) ? params->radius_min
+                : (trimmed < floor)            ? trimmed
+                                               : floor;
+    }
+    return (run->radius / 3 > floor) ? run->radius / 3 : (fx_q16_16_t)floor;
+}
+
 /* The end of a pass: the step, convergence, the next pass or the end. */
 static void close_pass(ego_track_run_t *run, const ego_work_t *work)
 {
@@ -505,15 +524,14 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
         run->finished = true;
         return;
     }
-    /* 0.3 m, then a third of it each pass down to the radius. */
-    run->radius = (run->radius / 3 > params->radius) ? run->radius / 3 : params->radius;
+    run->radius = next_radius(run);
     /* Until the budget: a meter that cannot pay for another pass ends the
      * run here, with the statistics of this one, converged when settled
      * (a pass sized by the typical point alone ran dry on the busy road's
      * dear points, and its scan cost the next one). */
     const uint32_t next_stride = pass_stride(run);
     const uint32_t next_points = (run->current->count + next_stride - 1u) / next_stride;
-    if (run->until_budget && !ego_work_allows(work, next_points * pass_point_units(run) +
+    if (run->tracking && !ego_work_allows(work, next_points * pass_point_units(run) +
                                                         EGO_COST_SOLVE)) {
         run->converged = settled;
         run->finished = true;

@@ -46,9 +46,12 @@ typedef struct {
     fx_q16_16_t radius_start;         /* |d| accepted in the first iteration, m; 0.3 */
     fx_q16_16_t radius;               /* ... then a third of the last, down to this, m;
                                          0.05 */
+    fx_q16_16_t radius_min;           /* tracking goes on down to 3 RMS distances of its
+                                         last pass, not below this, m; 0.015 (below:
+                                         1 cm range steps) */
     uint8_t max_iterations;           /* 10 */
-    fx_q16_16_t converge_translation; /* a step this small has converged, m; 0.0001 */
-    fx_bam32_t converge_rotation;     /* ... and this, 0.001 deg */
+    fx_q16_16_t converge_translation; /* a step this small has converged, m; 0.0002 */
+    fx_bam32_t converge_rotation;     /* ... and this, 0.002 deg */
     fx_q16_16_t inlier_distance;      /* of the inlier shares, m; 0.10 (as ITCP's) */
     fx_bam32_t main_tolerance;        /* tangent this close to the main direction:
                                          main group; 10 deg (as ITCP's) */
@@ -95,7 +98,7 @@ typedef struct {
     uint8_t iteration;
     uint8_t stride;   /* every how many current points the pass matches */
     uint32_t pass_units; /* the work of the pass's points so far */
-    bool until_budget;
+    bool tracking;
     bool finished;
     bool converged;
     bool failed;
@@ -106,13 +109,18 @@ typedef struct {
     int16_t normal[EGO_MAX_POINTS][2];
 } ego_track_run_t;
 
-/* until_budget: the run ends where the meter cannot pay for another
- * pass at the last one's cost per point (a typical point's at least;
- * converged when its last full pass's step was small), for a
- * caller whose answer is due with this meter; otherwise it waits for more
- * work (ego_track_step returns false). */
+/* tracking: a run from a prediction whose answer is due with this meter.
+ * It ends where the meter cannot pay for another pass at the last one's
+ * cost per point (a typical point's at least; converged when its last
+ * full pass's step was small); and its radius shrinks on to 3 RMS
+ * distances of the last pass (radius_min at least): within centimetres of
+ * the truth, what lies further is no longer noise but a corner cut by the
+ * chord between two far beams (2-5 cm at 20-40 m), and those all pull the
+ * same way. Otherwise (the search's registrations, whose starts are only
+ * as good as a coarse step and whose statistics rank the candidates) it
+ * waits for more work (ego_track_step returns false). */
 void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_scan_t *current,
-                     fx_bam32_t main_direction, const ego_pose_t *initial, bool until_budget,
+                     fx_bam32_t main_direction, const ego_pose_t *initial, bool tracking,
                      const ego_track_params_t *params);
 
 /* Works until finished (true) or the meter cannot pay for the next step:
