@@ -496,7 +496,13 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
     int64_t dx = 0;
     int64_t dy = 0;
     int64_t dtheta = 0;
-    if (matches(run) < (int64_t)params->min_matches ||
+    /* Tracking's first pass with under a quarter of its points within the
+     * inlier distance: the prediction missed (a turn begun, a jump), and
+     * the rest of the scan's budget is better spent on another start. */
+    const ego_track_sums_t *g = run->group;
+    const bool missed = run->tracking && run->iteration == 0u &&
+                        4u * (g[0].inliers + g[1].inliers) < g[0].points + g[1].points;
+    if (missed || matches(run) < (int64_t)params->min_matches ||
         !solve(run, &dx, &dy, &dtheta, &run->weak_rotation)) {
         run->finished = true;
         run->failed = true;
