@@ -250,7 +250,11 @@ static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
     const bool confirmed = have_prediction && dt_us <= CONFIRM_INTERVAL_US &&
                            st == EGO_ITCP_OK && (r->converged || cut) &&
                            close_to(&pose, predicted, params) && half_accepted(params, r);
-    return confirmed || good_enough(params, st, r, false);
+    /* Cut by the budget after its steps brought each group's share to the
+     * accept share: as good as converged, whatever the prediction said (a
+     * turn's onset tracked from the turned start; flagged not converged). */
+    const bool fits_cut = cut && st == EGO_ITCP_OK && worst_share(r) >= params->accept_fraction;
+    return confirmed || fits_cut || good_enough(params, st, r, false);
 }
 
 /* ---- The search (ego.h step 3), in steps within the meter. ---- */

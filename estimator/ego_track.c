@@ -500,8 +500,10 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
      * inlier distance: the prediction missed (a turn begun, a jump), and
      * the rest of the scan's budget is better spent on another start. */
     const ego_track_sums_t *g = run->group;
-    const bool missed = run->tracking && run->iteration == 0u &&
-                        4u * (g[0].inliers + g[1].inliers) < g[0].points + g[1].points;
+    const uint32_t points = g[0].points + g[1].points;
+    const uint32_t found = (run->iteration == 0u) ? (uint32_t)matches(run)
+                                                  : g[0].inliers + g[1].inliers;
+    const bool missed = run->tracking && 4u * found < points;
     if (missed || matches(run) < (int64_t)params->min_matches ||
         !solve(run, &dx, &dy, &dtheta, &run->weak_rotation)) {
         run->finished = true;
