@@ -885,7 +885,14 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                     const ego_pose_t *predicted, bool had_prediction)
 {
     const bool close = matched && close_to(&out->pose, predicted, params);
-    if (!tracked && matched && had_prediction && !close && state->misses == 0u) {
+    if (!matched) {
+        /* The line is the prediction: it says nothing new about the
+         * motion, and a motion not known stays unknown (taken as a known
+         * standstill, it shrank the next search's window from 4 m to
+         * 1.6 m: a vehicle moving 3 m a scan was never found again). */
+        state->predictable = false;
+        state->misses = 0u;
+    } else if (!tracked && had_prediction && !close && state->misses == 0u) {
         state->misses = 1u;
     } else {
         state->motion = out->pose;
