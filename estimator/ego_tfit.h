@@ -59,8 +59,9 @@ bool ego_tfit_fit(const fx_q16_16_t *x, const fx_q16_16_t *y, uint16_t count, ui
 void ego_tfit_fit_scan(ego_scan_t *scan, const ego_tfit_params_t *params);
 
 /* The cheap tangent of every point: the direction of the chord between
- * its linked neighbours (one side at a segment's end; none for a lone
- * point), modulo 180 deg. For tracking, where a tangent
+ * its linked neighbours, widened on both sides (up to 4 each) until it
+ * spans 0.2 m (one side at a segment's end; none for a lone point),
+ * modulo 180 deg. For tracking, where a tangent
  * only sorts a point into ITCP's two groups (10 deg apart at least): about
  * a fifth of a plain fit's work. */
 void ego_tfit_chord_scan(ego_scan_t *scan);

@@ -28,7 +28,8 @@ typedef struct {
 #define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per beam kept ... */
 #define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
-#define EGO_COST_TFIT_CHORD 200u         /* one chord tangent (one point) */
+#define EGO_COST_TFIT_CHORD 300u         /* one chord tangent (one point: a chord of 0.2 m
+                                            over up to 4 neighbours a side) */
 #define EGO_COST_TFIT_ROBUST 6500u       /* one robust tangent fit (plain + 2 passes) */
 #define EGO_COST_AH_POINT 185u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */

@@ -267,6 +267,62 @@ static void test_tfit_point_fits_like_the_scan(void)
     TEST_ASSERT_TRUE(fitted >= 10u);
 }
 
+/* Chord tangents (tracking's): a chord spans 0.2 m at least, widened over
+ * up to 4 linked neighbours on each side, so 1 cm of range noise on a
+ * near wall (0.5 deg apart at 3.75 m: 3.3 cm) leaves nearly every point
+ * within the main direction's 10 deg; each tangent is the direction of the
+ * chord the double oracle picks the same way; a segment's end uses one
+ * side, a lone point gets none. */
+static void test_tfit_chord_spans_its_minimum(void)
+{
+    static ego_scan_t scan;
+    double dx[48];
+    double dy[48];
+    uint32_t rng = 12345u;
+    const double wall = 0.3; /* rad */
+    memset(&scan, 0, sizeof scan);
+    scan.count = 48u;
+    make_line(wall, 0.033, 0.01, &rng, 40u, scan.x, scan.y, dx, dy);
+    scan.flags[39] = EGO_LINK_BREAK;                 /* the wall ends at 39 */
+    scan.x[40] = FX_Q16_16_C(5.0);                   /* 40: a lone point */
+    scan.flags[40] = EGO_LINK_BREAK;
+    for (uint16_t i = 41u; i < 48u; i++) {           /* 41..47: a short run */
+        scan.x[i] = FX_Q16_16_C(9.0);
+        scan.y[i] = (fx_q16_16_t)(i * FX_Q16_16_C(0.05));
+    }
+    scan.flags[47] = EGO_LINK_BREAK;
+    ego_tfit_chord_scan(&scan);
+    unsigned along = 0u;
+    for (uint16_t i = 0u; i < 40u; i++) {
+        TEST_ASSERT_TRUE(scan.flags[i] & EGO_POINT_HAS_TANGENT);
+        /* The oracle: widen on both sides until the chord spans 0.2 m. */
+        int a = i;
+        int b = i;
+        for (int k = 0; k < 4; k++) {
+            a = (a > 0) ? a - 1 : a;
+            b = (b < 39) ? b + 1 : b;
+            if (hypot(dx[b] - dx[a], dy[b] - dy[a]) >= 0.2) {
+                break;
+            }
+        }
+        const double chord = atan2(dy[b] - dy[a], dx[b] - dx[a]);
+        char msg[96];
+        (void)snprintf(msg, sizeof msg, "point %u: chord %d..%d", (unsigned)i, a, b);
+        TEST_ASSERT_TRUE_MESSAGE(
+            fx_host_line_angle_diff(fx_bam32_to_rad(scan.tangent[i]), chord) < 0.01, msg);
+        along += fx_host_line_angle_diff(fx_bam32_to_rad(scan.tangent[i]), wall) < 10.0 * FX_HOST_PI / 180.0
+                     ? 1u
+                     : 0u;
+    }
+    TEST_ASSERT_TRUE(along >= 38u);
+    TEST_ASSERT_FALSE(scan.flags[40] & EGO_POINT_HAS_TANGENT);
+    /* The run at x = 9 m: vertical wherever the chord lies in it. */
+    for (uint16_t i = 41u; i < 48u; i++) {
+        TEST_ASSERT_TRUE(scan.flags[i] & EGO_POINT_HAS_TANGENT);
+        TEST_ASSERT_TRUE(fx_host_line_angle_diff(fx_bam32_to_rad(scan.tangent[i]), FX_HOST_PI / 2.0) < 0.01);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -276,5 +332,6 @@ int main(void)
     RUN_TEST(test_tfit_rejects_degenerate_input);
     RUN_TEST(test_tfit_scan_follows_segments);
     RUN_TEST(test_tfit_point_fits_like_the_scan);
+    RUN_TEST(test_tfit_chord_spans_its_minimum);
     return UNITY_END();
 }
