@@ -77,12 +77,23 @@ static bool is_occlusion(const ego_prep_params_t *p, const sensor_point_t *a,
     const int64_t cross = (int64_t)a->x * b->y - (int64_t)a->y * b->x; /* Q32.32, < 2^46 */
     const int64_t dx = (int64_t)b->x - a->x;
     const int64_t dy = (int64_t)b->y - a->y;
-    const uint32_t ab = fx_sqrt_u64((uint64_t)(dx * dx + dy * dy)); /* Q16.16 */
     const int64_t far = (a->r > b->r) ? a->r : b->r;
-    /* Both sides scaled to Q46.(32+14) (< 2^60): the sine keeps 14 bits. */
+    /* Both sides scaled to Q46.(32+14) (< 2^61): the sine keeps 14 bits. */
     const int64_t lhs = ((cross < 0) ? -cross : cross) << 14;
-    const int64_t rhs = far * (int64_t)ab * (int64_t)(p->occlusion_sin >> 16);
-    return lhs < rhs;
+    const int64_t scale = far * (int64_t)(p->occlusion_sin >> 16);
+    /* |AB| (Q16.16, its root rounded down) lies between the larger of
+     * |dx|, |dy| and their sum: the root only where those disagree (a
+     * surface facing the scanner is decided without it). */
+    const int64_t ax = (dx < 0) ? -dx : dx;
+    const int64_t ay = (dy < 0) ? -dy : dy;
+    if (lhs < scale * ((ax > ay) ? ax : ay)) {
+        return true;
+    }
+    if (lhs >= scale * (ax + ay)) {
+        return false;
+    }
+    const uint32_t ab = fx_sqrt_u64((uint64_t)(dx * dx + dy * dy)); /* Q16.16 */
+    return lhs < scale * (int64_t)ab;
 }
 
 ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_params_t *params,

@@ -25,7 +25,7 @@ typedef struct {
 } ego_work_t;
 
 /* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
-#define EGO_COST_PREP_BEAM 480u          /* ego_scan_prepare, per beam kept ... */
+#define EGO_COST_PREP_BEAM 360u          /* ego_scan_prepare, per beam kept ... */
 #define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
 #define EGO_COST_TFIT_CHORD 300u         /* one chord tangent (one point: a chord of 0.2 m
