@@ -391,6 +391,13 @@ static bool refine_slot(ego_state_t *state, const ego_params_t *params, uint8_t 
         ego_work_spend(&state->work, EGO_COST_HTAH_POINT + votes * EGO_COST_HTAH_VOTE);
         se->cursor++;
     }
+    if (rebuild) {
+        if (!ego_work_allows(&state->work, EGO_COST_HIST_MAIN)) {
+            return false;
+        }
+        ego_work_spend(&state->work, EGO_COST_HIST_MAIN);
+        state->main_direction[slot] = ego_hist_main_direction(&state->hist[slot]);
+    }
     STAGE(EGO_STAGE_OTHER);
     state->refined[slot] = true;
     se->cursor = 0u;
@@ -487,7 +494,7 @@ static bool correlate_light(ego_state_t *state, const ego_params_t *params)
         }
     }
     se->cursor = 0u;
-    se->main_direction = ego_hist_main_direction(last);
+    se->main_direction = state->main_direction[state->last];
     return true;
 }
 
@@ -536,7 +543,7 @@ static bool correlate(ego_state_t *state, const ego_params_t *params)
     se->cursor = 0u;
     ego_hist_correlation_result(&se->correlation_run, &hm);
     take_rotations(se, params, &hm);
-    se->main_direction = ego_hist_main_direction(&state->hist[state->last]);
+    se->main_direction = state->main_direction[state->last];
     return true;
 }
 
@@ -727,7 +734,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             }
             ego_itcp_result_t r;
             const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-            const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
+            const fx_bam32_t main_direction = state->main_direction[state->last];
             if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction, se->dt_us,
                                 main_direction)) {
                 se->best = r;
@@ -1039,7 +1046,8 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     }
     /* Charged per point: beams without a range cost their pass only. */
     const uint32_t kept = (step == 1u) ? valid : beams_with_range(scan, step);
-    const uint32_t cost = kept * per_point + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED;
+    const uint32_t cost = kept * per_point + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED +
+                          EGO_COST_HIST_MAIN;
     if (!ego_work_allows(&state->work, cost)) {
         return false;
     }
@@ -1057,10 +1065,11 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
         ego_tfit_chord_scan(current);
     }
     STAGE(EGO_STAGE_HISTOGRAM);
-    ego_work_spend(&state->work, kept * EGO_COST_AH_POINT);
+    ego_work_spend(&state->work, kept * EGO_COST_AH_POINT + EGO_COST_HIST_MAIN);
     ego_hist_params_t ah = params->hist;
     ah.kind = EGO_HIST_AH;
     (void)ego_hist_build(current, &ah, &state->hist[cur]);
+    state->main_direction[cur] = ego_hist_main_direction(&state->hist[cur]);
     STAGE(EGO_STAGE_OTHER);
     state->refined[cur] = false;
     return true;
@@ -1075,7 +1084,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
                              bool have_prediction, uint32_t dt_us, ego_output_t *out)
 {
     const ego_scan_t *last = &state->slot[state->last];
-    const fx_bam32_t main_direction = ego_hist_main_direction(&state->hist[state->last]);
+    const fx_bam32_t main_direction = state->main_direction[state->last];
     STAGE(EGO_STAGE_REGISTER);
     ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, start, true,
                     &params->track);

@@ -193,6 +193,7 @@ typedef struct {
     bool bridge;             /* a search that took several scans just ended: the next
                                 interval is long, its prediction the search's motion */
     bool refined[2];         /* the slot has robust tangents and the search's histogram */
+    fx_bam32_t main_direction[2]; /* of each slot's histogram: its fullest bin */
     bool have_previous;      /* the time of the previous scan, for the budget */
     uint32_t previous_time_us;
     ego_work_t work;         /* this scan's meter */

@@ -34,6 +34,8 @@ typedef struct {
 #define EGO_COST_AH_POINT 185u           /* the AH histogram, per point */
 #define EGO_COST_HTAH_POINT 1800u        /* HTAH, per point with a window ... */
 #define EGO_COST_HTAH_VOTE 70u           /* ... plus per vote cast */
+#define EGO_COST_HIST_MAIN 12000u       /* a histogram's fullest bin: a pass over its
+                                            1 800 bins */
 #define EGO_COST_CORRELATE_PRODUCT 16u   /* histogram correlation, per bin product */
 #define EGO_COST_COARSE_SHIFT 4200u      /* a 1-deg correlation shift: 180 products (the
                                             turn guess measured 3.7 k instructions a
