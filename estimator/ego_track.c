@@ -477,16 +477,16 @@ static uint32_t pass_point_units(const ego_track_run_t *run)
 static fx_q16_16_t next_radius(const ego_track_run_t *run)
 {
     const ego_track_params_t *params = run->params;
-    int64_t floor = params->radius;
+    int64_t least = params->radius;
     const int64_t n = matches(run);
     if (run->tracking && n > 0) {
         const uint64_t sum_sq = run->group[0].sum_sq + run->group[1].sum_sq;
         const int64_t trimmed = 3 * (int64_t)fx_sqrt_u64(sum_sq / (uint64_t)n);
-        floor = (trimmed < params->radius_min) ? params->radius_min
-                : (trimmed < floor)            ? trimmed
-                                               : floor;
+        least = (trimmed < params->radius_min) ? params->radius_min
+                : (trimmed < least)            ? trimmed
+                                               : least;
     }
-    return (run->radius / 3 > floor) ? run->radius / 3 : (fx_q16_16_t)floor;
+    return (run->radius / 3 > least) ? run->radius / 3 : (fx_q16_16_t)least;
 }
 
 /* The end of a pass: the step, convergence, the next pass or the end. */
@@ -496,9 +496,11 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
     int64_t dx = 0;
     int64_t dy = 0;
     int64_t dtheta = 0;
-    /* Tracking's first pass with under a quarter of its points within the
-     * inlier distance: the prediction missed (a turn begun, a jump), and
-     * the rest of the scan's budget is better spent on another start. */
+    /* A tracking pass with under a quarter of its points matched (the
+     * first within its radius, a later one within the inlier distance):
+     * the prediction missed (a turn begun, a jump) or the run fell into a
+     * wrong minimum, and the rest of the scan's budget is better spent on
+     * another start. */
     const ego_track_sums_t *g = run->group;
     const uint32_t points = g[0].points + g[1].points;
     const uint32_t found = (run->iteration == 0u) ? (uint32_t)matches(run)

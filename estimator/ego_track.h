@@ -112,7 +112,9 @@ typedef struct {
 /* tracking: a run from a prediction whose answer is due with this meter.
  * It ends where the meter cannot pay for another pass at the last one's
  * cost per point (a typical point's at least; converged when its last
- * full pass's step was small); and its radius shrinks on to 3 RMS
+ * full pass's step was small), or, failed, at a pass with under a quarter
+ * of its points matched (the first within its radius, a later one within
+ * the inlier distance); and its radius shrinks on to 3 RMS
  * distances of the last pass (radius_min at least): within centimetres of
  * the truth, what lies further is no longer noise but a corner cut by the
  * chord between two far beams (2-5 cm at 20-40 m), and those all pull the
