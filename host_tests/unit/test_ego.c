@@ -563,6 +563,71 @@ static void test_ego_budget_recovers_from_a_jump_without_a_hole(void)
     TEST_ASSERT_TRUE_MESSAGE(fabs(th * 180.0 / FX_HOST_PI - th_deg) < 0.5, msg);
 }
 
+/* Tracking from a prediction that missed a turn of 20 deg gives up at its
+ * first pass (under a quarter of its points matched), a search's
+ * registration from the same start does not: its work goes on. */
+static void test_track_gives_up_when_the_prediction_missed(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(0.05, 0.0, 20.0, &g_current);
+    ego_track_params_t tp;
+    ego_track_defaults(&tp);
+    const ego_pose_t start = {0u, FX_Q16_16_C(0.05), 0};
+    uint64_t spent[2];
+    ego_itcp_result_t r[2];
+    ego_itcp_status_t st[2];
+    for (unsigned tracking = 0u; tracking < 2u; tracking++) {
+        static ego_track_run_t run;
+        ego_work_t w;
+        ego_work_start(&w, EGO_WORK_UNLIMITED);
+        ego_track_start(&run, &g_last, &g_current, 0u, &start, tracking != 0u, &tp);
+        TEST_ASSERT_TRUE(ego_track_step(&run, &w));
+        st[tracking] = ego_track_result(&run, &r[tracking]);
+        spent[tracking] = w.used;
+    }
+    char msg[160];
+    (void)snprintf(msg, sizeof msg, "tracking: status %d, %u iterations, %llu units; search: %d, %u, %llu",
+                   (int)st[1], (unsigned)r[1].iterations, (unsigned long long)spent[1], (int)st[0],
+                   (unsigned)r[0].iterations, (unsigned long long)spent[0]);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(EGO_ITCP_ERR_FEW_MATCHES, st[1], msg);
+    TEST_ASSERT_EQUAL_UINT_MESSAGE(0u, r[1].iterations, msg);
+    TEST_ASSERT_TRUE_MESSAGE(r[0].iterations > 0u && 3u * spent[1] < spent[0], msg);
+}
+
+/* Tracking from a good prediction narrows its radius below the 0.05 m
+ * every registration reaches, to 3 RMS distances of its passes (not below
+ * radius_min); a search's registration stays at 0.05 m. Both land on the
+ * motion. */
+static void test_track_trims_its_radius(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(0.06, 0.01, 0.4, &g_current);
+    ego_track_params_t tp;
+    ego_track_defaults(&tp);
+    const ego_pose_t start = {FX_BAM32_DEG_C(0.3), FX_Q16_16_C(0.05), FX_Q16_16_C(0.02)};
+    for (unsigned tracking = 0u; tracking < 2u; tracking++) {
+        static ego_track_run_t run;
+        ego_work_t w;
+        ego_work_start(&w, EGO_WORK_UNLIMITED);
+        ego_track_start(&run, &g_last, &g_current, 0u, &start, tracking != 0u, &tp);
+        TEST_ASSERT_TRUE(ego_track_step(&run, &w));
+        ego_itcp_result_t r;
+        TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_track_result(&run, &r));
+        char msg[128];
+        (void)snprintf(msg, sizeof msg, "tracking %u: radius %.4f m, pose %.4f %.4f %.3f deg", tracking,
+                       fx_q16_16_to_double(run.radius), fx_q16_16_to_double(r.pose.x),
+                       fx_q16_16_to_double(r.pose.y), rad_of(r.pose.theta) * 180.0 / FX_HOST_PI);
+        if (tracking != 0u) {
+            TEST_ASSERT_TRUE_MESSAGE(run.radius < tp.radius && run.radius >= tp.radius_min, msg);
+        } else {
+            TEST_ASSERT_EQUAL_INT32_MESSAGE(tp.radius, run.radius, msg);
+        }
+        TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(r.pose.x) - 0.06) < 0.003, msg);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(r.pose.y) - 0.01) < 0.003, msg);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(r.pose.theta) * 180.0 / FX_HOST_PI - 0.4) < 0.02, msg);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -571,6 +636,8 @@ int main(void)
     RUN_TEST(test_coarse_search_projected);
     RUN_TEST(test_coarse_search_corrects_a_small_rotation);
     RUN_TEST(test_coarse_search_without_points_keeps_the_centre);
+    RUN_TEST(test_track_gives_up_when_the_prediction_missed);
+    RUN_TEST(test_track_trims_its_radius);
     RUN_TEST(test_ego_first_scan_then_motion_and_velocities);
     RUN_TEST(test_ego_large_first_motion_needs_the_coarse_search);
     RUN_TEST(test_ego_long_interval_and_sparse_scans);
