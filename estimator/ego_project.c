@@ -206,11 +206,10 @@ static void keep_best(ego_project_cells_t *out, uint64_t *score, int32_t *at, in
     }
 }
 
-/* Direction k: the last scan's main direction turned by k * 180 / DIRS deg;
- * its unit vector (c, s) in Q2.30. */
-static void direction_of(fx_bam32_t main_direction, unsigned k, fx_q2_30_t *s, fx_q2_30_t *c)
+/* Direction k: the last scan's main direction turned by k * 180 / DIRS deg. */
+static fx_bam32_t direction_of(fx_bam32_t main_direction, unsigned k)
 {
-    fx_sincos(main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS)), s, c);
+    return main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS));
 }
 
 uint32_t ego_project_direction(const ego_scan_t *last, const ego_scan_t *current,
@@ -225,10 +224,10 @@ uint32_t ego_project_direction(const ego_scan_t *last, const ego_scan_t *current
     fx_q2_30_t rs = 0;
     fx_q2_30_t rc = 0;
     fx_sincos(around->theta, &rs, &rc);
+    const fx_bam32_t dir = direction_of(main_direction, k);
     fx_q2_30_t s = 0;
     fx_q2_30_t c = 0;
-    direction_of(main_direction, k, &s, &c);
-    const fx_bam32_t dir = main_direction + (fx_bam32_t)(k * (FX_BAM32_HALF / EGO_PROJECT_DIRS));
+    fx_sincos(dir, &s, &c);
     return correlate_direction(last, current, around, rs, rc, dir, s, c, bin, shifts_of(n), scratch,
                                k);
 }
@@ -246,7 +245,8 @@ uint32_t ego_project_rank(fx_bam32_t main_direction, const ego_pose_t *around, f
     fx_q2_30_t s[EGO_PROJECT_DIRS];
     fx_q2_30_t c[EGO_PROJECT_DIRS];
     for (unsigned k = 0u; k < EGO_PROJECT_DIRS; k++) {
-        direction_of(main_direction, k, &s[k], &c[k]);
+        /* Its unit vector in Q2.30 bins per bin of motion. */
+        fx_sincos(direction_of(main_direction, k), &s[k], &c[k]);
     }
     uint64_t score[EGO_PROJECT_CELLS];
     int32_t at[2u * EGO_PROJECT_CELLS];

@@ -563,6 +563,20 @@ static void test_ego_budget_recovers_from_a_jump_without_a_hole(void)
     TEST_ASSERT_TRUE_MESSAGE(fabs(th * 180.0 / FX_HOST_PI - th_deg) < 0.5, msg);
 }
 
+/* A tracking run (tracking: from a prediction; else a search's
+ * registration) of g_current against g_last from start, to its end with an
+ * unlimited meter; returns the units it spent. */
+static ego_track_run_t g_track;
+
+static uint64_t track_to_end(const ego_pose_t *start, bool tracking, const ego_track_params_t *tp)
+{
+    ego_work_t w;
+    ego_work_start(&w, EGO_WORK_UNLIMITED);
+    ego_track_start(&g_track, &g_last, &g_current, 0u, start, tracking, tp);
+    TEST_ASSERT_TRUE(ego_track_step(&g_track, &w));
+    return w.used;
+}
+
 /* Tracking from a prediction that missed a turn of 20 deg gives up at its
  * first pass (under a quarter of its points matched), a search's
  * registration from the same start does not: its work goes on. */
@@ -577,13 +591,8 @@ static void test_track_gives_up_when_the_prediction_missed(void)
     ego_itcp_result_t r[2];
     ego_itcp_status_t st[2];
     for (unsigned tracking = 0u; tracking < 2u; tracking++) {
-        static ego_track_run_t run;
-        ego_work_t w;
-        ego_work_start(&w, EGO_WORK_UNLIMITED);
-        ego_track_start(&run, &g_last, &g_current, 0u, &start, tracking != 0u, &tp);
-        TEST_ASSERT_TRUE(ego_track_step(&run, &w));
-        st[tracking] = ego_track_result(&run, &r[tracking]);
-        spent[tracking] = w.used;
+        spent[tracking] = track_to_end(&start, tracking != 0u, &tp);
+        st[tracking] = ego_track_result(&g_track, &r[tracking]);
     }
     char msg[160];
     (void)snprintf(msg, sizeof msg, "tracking: status %d, %u iterations, %llu units; search: %d, %u, %llu",
@@ -606,21 +615,18 @@ static void test_track_trims_its_radius(void)
     ego_track_defaults(&tp);
     const ego_pose_t start = {FX_BAM32_DEG_C(0.3), FX_Q16_16_C(0.05), FX_Q16_16_C(0.02)};
     for (unsigned tracking = 0u; tracking < 2u; tracking++) {
-        static ego_track_run_t run;
-        ego_work_t w;
-        ego_work_start(&w, EGO_WORK_UNLIMITED);
-        ego_track_start(&run, &g_last, &g_current, 0u, &start, tracking != 0u, &tp);
-        TEST_ASSERT_TRUE(ego_track_step(&run, &w));
+        (void)track_to_end(&start, tracking != 0u, &tp);
+        const ego_track_run_t *run = &g_track;
         ego_itcp_result_t r;
-        TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_track_result(&run, &r));
+        TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_track_result(run, &r));
         char msg[128];
         (void)snprintf(msg, sizeof msg, "tracking %u: radius %.4f m, pose %.4f %.4f %.3f deg", tracking,
-                       fx_q16_16_to_double(run.radius), fx_q16_16_to_double(r.pose.x),
+                       fx_q16_16_to_double(run->radius), fx_q16_16_to_double(r.pose.x),
                        fx_q16_16_to_double(r.pose.y), rad_of(r.pose.theta) * 180.0 / FX_HOST_PI);
         if (tracking != 0u) {
-            TEST_ASSERT_TRUE_MESSAGE(run.radius < tp.radius && run.radius >= tp.radius_min, msg);
+            TEST_ASSERT_TRUE_MESSAGE(run->radius < tp.radius && run->radius >= tp.radius_min, msg);
         } else {
-            TEST_ASSERT_EQUAL_INT32_MESSAGE(tp.radius, run.radius, msg);
+            TEST_ASSERT_EQUAL_INT32_MESSAGE(tp.radius, run->radius, msg);
         }
         TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(r.pose.x) - 0.06) < 0.003, msg);
         TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(r.pose.y) - 0.01) < 0.003, msg);
