@@ -669,9 +669,11 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
     se->tried++;
     /* A coarse pass that lands back on the best registration so far (both
      * converged, within the prediction's trust distance of each other):
-     * two independent starts agree. */
+     * two independent starts agree. Not along a corridor, where every
+     * start stays where it began along it. */
     const bool agrees = se->with_coarse && se->best_status == EGO_ITCP_OK &&
-                        se->attempt_status == EGO_ITCP_OK && se->best.converged &&
+                        se->attempt_status == EGO_ITCP_OK && !se->attempt.aperture &&
+                        se->best.converged &&
                         se->attempt.converged && close_to(&se->attempt.pose, &se->best.pose, params);
     if (better(se->attempt_status, &se->attempt, se->best_status, &se->best, 0)) {
         se->best = se->attempt;
@@ -897,6 +899,15 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
          * motion, and a motion not known stays unknown (taken as a known
          * standstill, it shrank the next search's window from 4 m to
          * 1.6 m: a vehicle moving 3 m a scan was never found again). */
+        state->predictable = false;
+        state->misses = 0u;
+    } else if (tracked && (out->flags & EGO_FLAG_APERTURE) != 0u && !had_prediction) {
+        /* Along a corridor with nothing to predict the motion along it
+         * the match's is only its start's: the motion stays unknown (a
+         * corridor entered at 3 m a scan from a standstill guess was
+         * taken for a standstill, and the exit's search never looked
+         * 3 m away). */
+        state->motion_dt_us = 0u;
         state->predictable = false;
         state->misses = 0u;
     } else if (!tracked && had_prediction && !close && state->misses == 0u) {
@@ -1132,6 +1143,84 @@ static bool turned_start(ego_state_t *state, uint8_t cur, const ego_pose_t *pred
     return true;
 }
 
+/* A speed the prediction missed: along a corridor the motion along it is
+ * the prediction's, and over the scans a search spanned it is the speed
+ * from before; at the exit, or after the search, it can be a fifth or a
+ * third off while the heading holds. The shift along the predicted
+ * direction of travel that best aligns the two scans' projections on it
+ * (ego_project_along, surfaces facing it only: not the corridor's walls),
+ * within half the predicted distance (ALONG_WINDOW_MIN to _MAX), is a
+ * third start for tracking; false when the prediction moves too little to
+ * have a direction, the best shift is within ALONG_SAME of the start
+ * (tracking started there already), or the meter cannot pay for it. */
+#define ALONG_MOVE_MIN FX_Q16_16_C(0.3)
+#define ALONG_WINDOW_MIN FX_Q16_16_C(0.5)
+#define ALONG_WINDOW_MAX FX_Q16_16_C(4.0)
+#define ALONG_FINE_MAX FX_Q16_16_C(2.0) /* up to here in bins of 0.1 m, beyond of 0.2 m */
+#define ALONG_SAME FX_Q16_16_C(0.15)
+
+static bool along_start(ego_state_t *state, uint8_t cur, const ego_pose_t *from, ego_pose_t *start)
+{
+    const uint64_t d2 = (uint64_t)((int64_t)from->x * from->x + (int64_t)from->y * from->y);
+    const fx_q16_16_t distance = (fx_q16_16_t)fx_sqrt_u64(d2);
+    if (distance < ALONG_MOVE_MIN) {
+        return false;
+    }
+    fx_q16_16_t window = distance / 2;
+    window = (window < ALONG_WINDOW_MIN) ? ALONG_WINDOW_MIN : window;
+    window = (window > ALONG_WINDOW_MAX) ? ALONG_WINDOW_MAX : window;
+    const fx_q16_16_t bin = (window > ALONG_FINE_MAX) ? FX_Q16_16_C(0.2) : FX_Q16_16_C(0.1);
+    const ego_scan_t *last = &state->slot[state->last];
+    const ego_scan_t *current = &state->slot[cur];
+    if (!ego_work_allows(&state->work, ego_project_along_cost_max(last, current, window, bin))) {
+        return false;
+    }
+    const fx_bam32_t direction = fx_atan2(from->y, from->x);
+    fx_q16_16_t shift = 0;
+    uint32_t units = 0u;
+    STAGE(EGO_STAGE_COARSE);
+    const bool found = ego_project_along(last, current, direction, from, window, bin,
+                                         &state->projection, &shift, &units);
+    ego_work_spend(&state->work, units);
+    STAGE(EGO_STAGE_OTHER);
+    if (!found || (shift < ALONG_SAME && shift > -ALONG_SAME)) {
+        return false;
+    }
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(direction, &s, &c);
+    *start = *from;
+    start->x = fx_add_q16(from->x, fx_mul_q16_q30(shift, c));
+    start->y = fx_add_q16(from->y, fx_mul_q16_q30(shift, s));
+    return true;
+}
+
+/* Tracking from its starts, each while the last failed: the prediction,
+ * the turned start, the along start. Tracking is for scans close in time
+ * (the caller's may_track): over a long interval (keyframes) a prediction
+ * can be metres off, and a local registration from it can settle in a
+ * wrong minimum that fits well; the search is safer. Without a prediction
+ * tracking starts from no motion. */
+static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t *params, uint8_t cur,
+                                         const ego_pose_t *predicted, bool have_prediction,
+                                         uint32_t dt, ego_output_t *out)
+{
+    track_outcome_t tracked =
+        track(state, params, cur, predicted, predicted, have_prediction, dt, out);
+    ego_pose_t turned = *predicted;
+    if (tracked == TRACK_FAILED && turned_start(state, cur, predicted, &turned)) {
+        /* The turned start stands for the prediction: the histograms' turn
+         * with the predicted translation, two pieces of evidence. */
+        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, out);
+    }
+    ego_pose_t along;
+    if (tracked == TRACK_FAILED && have_prediction && along_start(state, cur, &turned, &along)) {
+        /* Likewise: the projections' shift with the predicted heading. */
+        tracked = track(state, params, cur, &along, &along, have_prediction, dt, out);
+    }
+    return tracked;
+}
+
 ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                          uint32_t time_us, ego_output_t *out)
 {
@@ -1203,22 +1292,12 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         advance(state, params, cur, time_us, out, false, false, &predicted, have_prediction);
         return;
     }
-    /* Tracking is for scans close in time: over a long interval (keyframes)
-     * a prediction can be metres off, and a local registration from it can
-     * settle in a wrong minimum that fits well; the search is safer.
-     * Without a prediction tracking starts from no motion. */
-    track_outcome_t tracked = may_track ? track(state, params, cur, &predicted, &predicted,
-                                                have_prediction, dt, out)
-                                          : TRACK_FAILED;
-    ego_pose_t turned;
-    if (tracked == TRACK_FAILED && may_track && turned_start(state, cur, &predicted, &turned)) {
-        /* The turned start stands for the prediction: the histograms' turn
-         * with the predicted translation, two pieces of evidence. */
-        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, out);
-    }
+    const track_outcome_t tracked =
+        may_track ? track_from_starts(state, params, cur, &predicted, have_prediction, dt, out)
+                  : TRACK_FAILED;
     if (tracked == TRACK_FOUND) {
         set_velocities(out);
-        advance(state, params, cur, time_us, out, true, true, &predicted, true);
+        advance(state, params, cur, time_us, out, true, true, &predicted, have_prediction);
         return;
     }
     /* What the trackings left in out is no answer. */

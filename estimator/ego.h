@@ -10,8 +10,12 @@
  *     scaled) over scans at most 0.2 s apart: it stands when converged with
  *     at least accept_fraction of each group as inliers, or close to a
  *     trusted prediction with half that share over both groups. A failed
- *     tracking is tried once more from the turn that best aligns the two
- *     scans' direction histograms (ego_hist_turn_guess);
+ *     tracking is tried again from the turn that best aligns the two
+ *     scans' direction histograms (ego_hist_turn_guess), then from the
+ *     shift along the direction of travel that best aligns the two scans'
+ *     projections on it (ego_project_along: a speed the prediction
+ *     missed). Along a corridor tracked with nothing to predict the motion
+ *     along it, the motion stays unknown;
  *  3. otherwise search, anytime, against the last scan: robust tangents
  *     and HTAH for both scans, the histogram correlation's rotation
  *     candidates, for each candidate the tracking registration from the

@@ -1,7 +1,6 @@
 /* ego_project.c - see ego_project.h. */
 #include "ego_project.h"
 
-#include <stdbool.h>
 #include <string.h>
 
 #include "ego_fx_math.h"
@@ -87,11 +86,15 @@ static void add_saturated(uint8_t *h, int32_t b, uint32_t v)
 }
 
 /* Does point i of scan s count along direction dir (its tangent turned by
- * turn): no tangent, or one at least ALONG_TOLERANCE from dir. */
-static bool faces(const ego_scan_t *s, uint16_t i, fx_bam32_t turn, fx_bam32_t dir)
+ * turn): one at least ALONG_TOLERANCE from dir, or no tangent unless
+ * tangent_needed. */
+static bool faces(const ego_scan_t *s, uint16_t i, fx_bam32_t turn, fx_bam32_t dir,
+                  bool tangent_needed)
 {
-    return (s->flags[i] & EGO_POINT_HAS_TANGENT) == 0u ||
-           fx_line_angle_diff(s->tangent[i] + turn, dir) >= ALONG_TOLERANCE;
+    if ((s->flags[i] & EGO_POINT_HAS_TANGENT) == 0u) {
+        return !tangent_needed;
+    }
+    return fx_line_angle_diff(s->tangent[i] + turn, dir) >= ALONG_TOLERANCE;
 }
 
 /* Direction k's correlation of the two histograms over shifts -m..m around
@@ -100,14 +103,15 @@ static bool faces(const ego_scan_t *s, uint16_t i, fx_bam32_t turn, fx_bam32_t d
 static uint32_t correlate_direction(const ego_scan_t *last, const ego_scan_t *current,
                                     const ego_pose_t *around, fx_q2_30_t rs, fx_q2_30_t rc,
                                     fx_bam32_t dir, fx_q2_30_t s, fx_q2_30_t c, fx_q16_16_t bin,
-                                    int32_t m, ego_project_scratch_t *w, unsigned k)
+                                    int32_t m, bool tangent_needed, ego_project_scratch_t *w,
+                                    unsigned k)
 {
     memset(w->last, 0, sizeof w->last);
     memset(w->current, 0, sizeof w->current);
     /* The last scan's bins spread over their neighbours (2, 1, 1): a
      * current point a fraction of a bin off still meets its surface. */
     for (uint16_t i = 0u; i < last->count; i++) {
-        if (faces(last, i, 0u, dir)) {
+        if (faces(last, i, 0u, dir, tangent_needed)) {
             const int64_t p = ((int64_t)last->x[i] * c + (int64_t)last->y[i] * s) >> 30;
             const int32_t b = floor_div((int32_t)p, bin);
             add_saturated(w->last, b, 2u);
@@ -117,7 +121,7 @@ static uint32_t correlate_direction(const ego_scan_t *last, const ego_scan_t *cu
     }
     const ego_pose_t turn = {around->theta, 0, 0};
     for (uint16_t i = 0u; i < current->count; i++) {
-        if (faces(current, i, around->theta, dir)) {
+        if (faces(current, i, around->theta, dir, tangent_needed)) {
             fx_q16_16_t qx = 0;
             fx_q16_16_t qy = 0;
             ego_pose_apply(&turn, rs, rc, current->x[i], current->y[i], &qx, &qy);
@@ -228,8 +232,8 @@ uint32_t ego_project_direction(const ego_scan_t *last, const ego_scan_t *current
     fx_q2_30_t s = 0;
     fx_q2_30_t c = 0;
     fx_sincos(dir, &s, &c);
-    return correlate_direction(last, current, around, rs, rc, dir, s, c, bin, shifts_of(n), scratch,
-                               k);
+    return correlate_direction(last, current, around, rs, rc, dir, s, c, bin, shifts_of(n), false,
+                               scratch, k);
 }
 
 uint32_t ego_project_rank(fx_bam32_t main_direction, const ego_pose_t *around, fx_q16_16_t window,
@@ -296,4 +300,52 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
                                        scratch);
     }
     return units + ego_project_rank(main_direction, around, window, bin, scratch, out);
+}
+
+uint32_t ego_project_along_cost_max(const ego_scan_t *last, const ego_scan_t *current,
+                                    fx_q16_16_t window, fx_q16_16_t bin)
+{
+    const uint32_t shifts = 2u * (uint32_t)ego_project_side(window, bin) + 1u;
+    const uint32_t filled = (current->count < EGO_PROJECT_BINS) ? current->count : EGO_PROJECT_BINS;
+    return direction_units(last, current, filled, shifts);
+}
+
+bool ego_project_along(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t direction,
+                       const ego_pose_t *around, fx_q16_16_t window, fx_q16_16_t bin,
+                       ego_project_scratch_t *scratch, fx_q16_16_t *shift, uint32_t *units)
+{
+    *units = 0u;
+    const int32_t n = ego_project_side(window, bin);
+    if (n == 0) {
+        return false;
+    }
+    fx_q2_30_t rs = 0;
+    fx_q2_30_t rc = 0;
+    fx_sincos(around->theta, &rs, &rc);
+    fx_q2_30_t s = 0;
+    fx_q2_30_t c = 0;
+    fx_sincos(direction, &s, &c);
+    /* Over a 1-D window: n shifts each side. Points with a tangent only:
+     * in a corridor the points without one lie on its walls, and their
+     * pattern (the beams' fixed bearings) looks the same from anywhere
+     * along it: a standstill. */
+    *units = correlate_direction(last, current, around, rs, rc, direction, s, c, bin, n, true,
+                                 scratch, 0u);
+    const uint16_t *corr = scratch->corr[0];
+    int32_t best = 0;
+    for (int32_t j = 1; j <= n; j++) { /* outwards from the centre: ties stay near it */
+        if (corr[n + j] > corr[n + best]) {
+            best = j;
+        }
+        if (corr[n - j] > corr[n + best]) {
+            best = -j;
+        }
+    }
+    if (corr[n + best] == 0u) {
+        return false;
+    }
+    /* Best translation's projection (centre + best bins) less around's own. */
+    const int64_t a = ((int64_t)around->x * c + (int64_t)around->y * s) >> 30;
+    *shift = fx_sat_s32((int64_t)(scratch->centre[0] + best) * bin - a);
+    return true;
 }

@@ -30,6 +30,7 @@
 #ifndef EGO_PROJECT_H
 #define EGO_PROJECT_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "ego_pose.h"
@@ -90,5 +91,20 @@ uint32_t ego_project_rank_cost(fx_q16_16_t window, fx_q16_16_t bin);
 uint32_t ego_project_rank(fx_bam32_t main_direction, const ego_pose_t *around, fx_q16_16_t window,
                           fx_q16_16_t bin, const ego_project_scratch_t *scratch,
                           ego_project_cells_t *out);
+
+/* The shift along one direction that best aligns the two scans (a speed
+ * the prediction missed, ego.c): the correlation of both scans'
+ * projections on `direction` (points whose tangent faces it only: not
+ * those without a tangent, unlike above) over the
+ * shifts within `window` of around's projection, at `bin`. On success
+ * *shift is the best shift's offset from around along direction (Q16.16
+ * m; ties go to the smaller offset). False when no point faces the
+ * direction in either scan. Units in *units (at most
+ * ego_project_along_cost_max). */
+uint32_t ego_project_along_cost_max(const ego_scan_t *last, const ego_scan_t *current,
+                                    fx_q16_16_t window, fx_q16_16_t bin);
+bool ego_project_along(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t direction,
+                       const ego_pose_t *around, fx_q16_16_t window, fx_q16_16_t bin,
+                       ego_project_scratch_t *scratch, fx_q16_16_t *shift, uint32_t *units);
 
 #endif /* EGO_PROJECT_H */

@@ -14,4 +14,12 @@ int project_ref_scores(const ego_scan_t *last, const ego_scan_t *current, double
                        double theta_rad, double cx, double cy, double window, double bin,
                        double *score);
 
+/* The correlation along one direction (ego_project_along): corr[j + n]
+ * for shifts j = -n..n of the translation's projection from the centre's
+ * bin (*centre_bin, in bins), scaled to 1 at its maximum, all 0 when no
+ * point faces the direction; returns n. corr must hold 2 n + 1 values. */
+int project_ref_along(const ego_scan_t *last, const ego_scan_t *current, double dir_rad,
+                      double theta_rad, double cx, double cy, double window, double bin,
+                      double *corr, double *centre_bin);
+
 #endif /* PROJECT_REF_H */

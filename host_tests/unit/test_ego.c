@@ -453,6 +453,36 @@ static void test_ego_budget_follows_the_interval(void)
     }
 }
 
+/* A speed the prediction missed: it says 1.2 m, the scanner went 1.8 m
+ * (as after a corridor, where the motion along it is the prediction's, or
+ * over the scans a search spanned), heading and turn right, 0.1 s later.
+ * Tracking from the prediction misses, and from the along start (the
+ * projections' shift along the direction of travel) the scan is answered
+ * within its budget without a search (no candidates). */
+static void test_ego_budget_tracks_a_missed_speed(void)
+{
+    ego_defaults(&g_params);
+    ego_budget_defaults(&g_params);
+    ego_reset(&g_state);
+    (void)step(0.0, 0.0, 0.0, 0u);
+    room_lms(1.8, 0.1, 1.0);
+    const ego_pose_t prior = {FX_BAM32_DEG_C(1.0), FX_Q16_16_C(1.2), FX_Q16_16_C(0.1)};
+    ego_output_t out;
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process_with_prior(&g_state, &g_params, synth_range(&g_lms),
+                                                         100000u, &prior, &out));
+    char msg[128];
+    (void)snprintf(msg, sizeof msg, "pose (%.4f, %.4f, %.4f deg) flags %u candidates %u work %u",
+                   fx_q16_16_to_double(out.pose.x), fx_q16_16_to_double(out.pose.y),
+                   rad_of(out.pose.theta) * 180.0 / FX_HOST_PI, (unsigned)out.flags,
+                   (unsigned)out.candidates, (unsigned)out.work);
+    TEST_ASSERT_EQUAL_HEX16_MESSAGE(0u, out.flags & (EGO_FLAG_RECOVERING | EGO_FLAG_PREDICTED), msg);
+    TEST_ASSERT_EQUAL_UINT_MESSAGE(0u, out.candidates, msg);
+    TEST_ASSERT_TRUE_MESSAGE(out.work <= out.work_limit, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 1.8) < 0.01, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.y) - 0.1) < 0.01, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(out.pose.theta) * 180.0 / FX_HOST_PI - 1.0) < 0.05, msg);
+}
+
 /* Unbounded, the same scans are spent on until done: every scan is
  * answered at once (nothing recovering), and the meter says so. */
 static void test_ego_unbounded_answers_every_scan(void)
@@ -649,6 +679,7 @@ int main(void)
     RUN_TEST(test_ego_long_interval_and_sparse_scans);
     RUN_TEST(test_ego_budget_holds_on_adversarial_scans);
     RUN_TEST(test_ego_budget_follows_the_interval);
+    RUN_TEST(test_ego_budget_tracks_a_missed_speed);
     RUN_TEST(test_ego_ring_flags_its_rotation);
     RUN_TEST(test_ego_unbounded_answers_every_scan);
     RUN_TEST(test_ego_budget_recovers_from_a_jump_without_a_hole);

@@ -30,15 +30,21 @@ static double g_score[(2 * EGO_PROJECT_MAX_SIDE + 1) * (2 * EGO_PROJECT_MAX_SIDE
 
 #define DEG (FX_HOST_PI / 180.0)
 
-/* The room seen from (x, y, heading), prepared with chord tangents (as the
- * estimator prepares a scan). */
-static void prepared(double x, double y, double heading_deg, ego_scan_t *scan)
+/* The walls seen from (x, y, heading), prepared with chord tangents (as
+ * the estimator prepares a scan). */
+static void prepared_in(const synth_wall_t *walls, unsigned n, double x, double y,
+                        double heading_deg, ego_scan_t *scan)
 {
-    synth_scan(synth_room, synth_room_walls, x, y, heading_deg * DEG, 361u, LMS_UNIT_CM, &g_lms);
+    synth_scan(walls, n, x, y, heading_deg * DEG, 361u, LMS_UNIT_CM, &g_lms);
     ego_prep_params_t prep;
     ego_prep_defaults(&prep);
     TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(synth_range(&g_lms), &prep, scan));
     ego_tfit_chord_scan(scan);
+}
+
+static void prepared(double x, double y, double heading_deg, ego_scan_t *scan)
+{
+    prepared_in(synth_room, synth_room_walls, x, y, heading_deg, scan);
 }
 
 static double metres(fx_q16_16_t v)
@@ -217,6 +223,90 @@ static void test_projection_in_steps(void)
     TEST_ASSERT_TRUE(ego_project_rank_cost(widest, bin) <= room);
 }
 
+/* A corridor 3 m wide along x with door frames jutting 0.4 m from its
+ * walls: along x only the frames tell how far the scanner went. */
+static const synth_wall_t g_frames[] = {
+    {-100.0, -1.5, 100.0, -1.5}, {-100.0, 1.5, 100.0, 1.5}, {4.0, 1.5, 4.0, 1.1},
+    {7.5, -1.5, 7.5, -1.1},      {11.0, 1.5, 11.0, 1.1},    {16.0, -1.5, 16.0, -1.1},
+    {23.0, 1.5, 23.0, 1.1},
+};
+
+/* The shift along direction dir_deg from around (cx, cy, theta_deg) to the
+ * truth (tx, ty): found within a bin of the truth's projection, at a shift
+ * whose correlation is the double oracle's maximum (2 %), within the
+ * units it may cost. */
+static void check_along(const synth_wall_t *walls, unsigned nwalls, double tx, double ty,
+                        double theta_deg, double cx, double cy, double dir_deg, double window)
+{
+    prepared_in(walls, nwalls, 0.0, 0.0, 0.0, &g_last);
+    prepared_in(walls, nwalls, tx, ty, theta_deg, &g_current);
+    const fx_bam32_t theta = (fx_bam32_t)(int32_t)llround(theta_deg / 360.0 * 4294967296.0);
+    const fx_bam32_t dir = (fx_bam32_t)(int32_t)llround(dir_deg / 360.0 * 4294967296.0);
+    const ego_pose_t around = {theta, (fx_q16_16_t)llround(cx * 65536.0),
+                               (fx_q16_16_t)llround(cy * 65536.0)};
+    const fx_q16_16_t bin = FX_Q16_16_C(0.1);
+    const fx_q16_16_t win = (fx_q16_16_t)llround(window * 65536.0);
+    fx_q16_16_t shift = 0;
+    uint32_t units = 0u;
+    const bool found =
+        ego_project_along(&g_last, &g_current, dir, &around, win, bin, &g_scratch, &shift, &units);
+    const double c = cos(dir_deg * DEG);
+    const double s = sin(dir_deg * DEG);
+    const double want = (tx - cx) * c + (ty - cy) * s;
+    char msg[160];
+    (void)snprintf(msg, sizeof msg, "shift %.3f m, truth %.3f m, units %u of %u", metres(shift),
+                   want, (unsigned)units,
+                   (unsigned)ego_project_along_cost_max(&g_last, &g_current, win, bin));
+    TEST_ASSERT_TRUE_MESSAGE(found, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(metres(shift) - want) <= 0.1 + 1e-4, msg);
+    TEST_ASSERT_TRUE_MESSAGE(units > 0u, msg);
+    TEST_ASSERT_TRUE_MESSAGE(units <= ego_project_along_cost_max(&g_last, &g_current, win, bin), msg);
+    double corr[2 * EGO_PROJECT_MAX_SIDE + 1];
+    double centre = 0.0;
+    const int n = project_ref_along(&g_last, &g_current, dir_deg * DEG, theta_deg * DEG,
+                                    metres(around.x), metres(around.y), window, 0.1, corr, &centre);
+    TEST_ASSERT_EQUAL_INT(ego_project_side(win, bin), n);
+    double best = 0.0;
+    for (int j = 0; j <= 2 * n; j++) {
+        best = (corr[j] > best) ? corr[j] : best;
+    }
+    const double projected = metres(around.x) * c + metres(around.y) * s + metres(shift);
+    const long j = lround(projected / 0.1 - centre);
+    TEST_ASSERT_TRUE_MESSAGE(j >= -n && j <= n, msg);
+    TEST_ASSERT_TRUE_MESSAGE(corr[j + n] >= 0.98 * best, msg);
+}
+
+static void test_projection_along_finds_a_missed_speed(void)
+{
+    /* Predicted 2.0 m along the corridor, driven 2.7 m. */
+    check_along(g_frames, sizeof g_frames / sizeof g_frames[0], 2.7, 0.05, 0.5, 2.0, 0.05, 0.0,
+                1.0);
+    /* Braked: 1.2 m short of 3 m. */
+    check_along(g_frames, sizeof g_frames / sizeof g_frames[0], 1.8, -0.1, -1.0, 3.0, -0.1, 0.0,
+                1.5);
+    /* In the room, along an oblique direction of travel. */
+    check_along(synth_room, synth_room_walls, 0.6, 0.35, 3.0, 0.1, 0.05, 30.0, 0.8);
+}
+
+/* Walls along the direction only: nothing faces it, no shift. */
+static void test_projection_along_a_bare_corridor(void)
+{
+    prepared_in(synth_corridor, synth_corridor_walls, 0.0, 0.0, 0.0, &g_last);
+    prepared_in(synth_corridor, synth_corridor_walls, 1.0, 0.0, 0.0, &g_current);
+    const ego_pose_t around = {0u, FX_Q16_16_C(0.5), 0};
+    fx_q16_16_t shift = 12345;
+    uint32_t units = 0u;
+    TEST_ASSERT_FALSE(ego_project_along(&g_last, &g_current, 0u, &around, FX_Q16_16_C(1.0),
+                                        FX_Q16_16_C(0.1), &g_scratch, &shift, &units));
+    TEST_ASSERT_TRUE(units > 0u);
+    TEST_ASSERT_TRUE(units <= ego_project_along_cost_max(&g_last, &g_current, FX_Q16_16_C(1.0),
+                                                         FX_Q16_16_C(0.1)));
+    /* No window: no work. */
+    TEST_ASSERT_FALSE(ego_project_along(&g_last, &g_current, 0u, &around, 0, FX_Q16_16_C(0.1),
+                                        &g_scratch, &shift, &units));
+    TEST_ASSERT_EQUAL_UINT32(0u, units);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -226,5 +316,7 @@ int main(void)
     RUN_TEST(test_projection_against_the_double_oracle);
     RUN_TEST(test_projection_of_nothing);
     RUN_TEST(test_projection_in_steps);
+    RUN_TEST(test_projection_along_finds_a_missed_speed);
+    RUN_TEST(test_projection_along_a_bare_corridor);
     return UNITY_END();
 }
