@@ -1146,28 +1146,37 @@ static bool turned_start(ego_state_t *state, uint8_t cur, const ego_pose_t *pred
 /* A speed the prediction missed: along a corridor the motion along it is
  * the prediction's, and over the scans a search spanned it is the speed
  * from before; at the exit, or after the search, it can be a fifth or a
- * third off while the heading holds. The shift along the predicted
- * direction of travel that best aligns the two scans' projections on it
- * (ego_project_along, surfaces facing it only: not the corridor's walls),
- * within half the predicted distance (ALONG_WINDOW_MIN to _MAX), is a
- * third start for tracking; false when the prediction moves too little to
- * have a direction, the best shift is within ALONG_SAME of the start
- * (tracking started there already), or the meter cannot pay for it. */
+ * third off while the heading holds. Without a prediction (the first
+ * scans, after a reset) the speed is unknown, and a vehicle moves along
+ * its heading (x). The shift along that direction of travel that best
+ * aligns the two scans' projections on it (ego_project_along, surfaces
+ * facing it only: not the corridor's walls), within half the predicted
+ * distance (ALONG_WINDOW_MIN to _MAX; without a prediction, the first
+ * window), is a start for tracking; false when the prediction moves too
+ * little to have a direction, the best shift is within ALONG_SAME of the
+ * start (tracking started there already), or the meter cannot pay for
+ * it. */
 #define ALONG_MOVE_MIN FX_Q16_16_C(0.3)
 #define ALONG_WINDOW_MIN FX_Q16_16_C(0.5)
 #define ALONG_WINDOW_MAX FX_Q16_16_C(4.0)
 #define ALONG_FINE_MAX FX_Q16_16_C(2.0) /* up to here in bins of 0.1 m, beyond of 0.2 m */
 #define ALONG_SAME FX_Q16_16_C(0.15)
 
-static bool along_start(ego_state_t *state, uint8_t cur, const ego_pose_t *from, ego_pose_t *start)
+static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t cur,
+                        const ego_pose_t *from, bool have_prediction, ego_pose_t *start)
 {
-    const uint64_t d2 = (uint64_t)((int64_t)from->x * from->x + (int64_t)from->y * from->y);
-    const fx_q16_16_t distance = (fx_q16_16_t)fx_sqrt_u64(d2);
-    if (distance < ALONG_MOVE_MIN) {
-        return false;
+    fx_bam32_t direction = 0u;
+    fx_q16_16_t window = params->coarse_window_first;
+    if (have_prediction) {
+        const uint64_t d2 = (uint64_t)((int64_t)from->x * from->x + (int64_t)from->y * from->y);
+        const fx_q16_16_t distance = (fx_q16_16_t)fx_sqrt_u64(d2);
+        if (distance < ALONG_MOVE_MIN) {
+            return false;
+        }
+        direction = fx_atan2(from->y, from->x);
+        window = distance / 2;
+        window = (window < ALONG_WINDOW_MIN) ? ALONG_WINDOW_MIN : window;
     }
-    fx_q16_16_t window = distance / 2;
-    window = (window < ALONG_WINDOW_MIN) ? ALONG_WINDOW_MIN : window;
     window = (window > ALONG_WINDOW_MAX) ? ALONG_WINDOW_MAX : window;
     const fx_q16_16_t bin = (window > ALONG_FINE_MAX) ? FX_Q16_16_C(0.2) : FX_Q16_16_C(0.1);
     const ego_scan_t *last = &state->slot[state->last];
@@ -1175,7 +1184,6 @@ static bool along_start(ego_state_t *state, uint8_t cur, const ego_pose_t *from,
     if (!ego_work_allows(&state->work, ego_project_along_cost_max(last, current, window, bin))) {
         return false;
     }
-    const fx_bam32_t direction = fx_atan2(from->y, from->x);
     fx_q16_16_t shift = 0;
     uint32_t units = 0u;
     STAGE(EGO_STAGE_COARSE);
@@ -1196,10 +1204,12 @@ static bool along_start(ego_state_t *state, uint8_t cur, const ego_pose_t *from,
 }
 
 /* Tracking from its starts, each while the last failed: the prediction,
- * the turned start, the along start. Tracking is for scans close in time
- * (the caller's may_track): over a long interval (keyframes) a prediction
- * can be metres off, and a local registration from it can settle in a
- * wrong minimum that fits well; the search is safer. Without a prediction
+ * the turned start, the along start (without a prediction the along start
+ * comes before the turned one: a vehicle's first motion seen is more
+ * often a speed than a turn). Tracking is for scans close in time (the
+ * caller's may_track): over a long interval (keyframes) a prediction can
+ * be metres off, and a local registration from it can settle in a wrong
+ * minimum that fits well; the search is safer. Without a prediction
  * tracking starts from no motion. */
 static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                                          const ego_pose_t *predicted, bool have_prediction,
@@ -1207,14 +1217,22 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
 {
     track_outcome_t tracked =
         track(state, params, cur, predicted, predicted, have_prediction, dt, out);
+    ego_pose_t along;
+    bool along_tried = false;
+    if (tracked == TRACK_FAILED && !have_prediction) {
+        along_tried = true;
+        if (along_start(state, params, cur, predicted, false, &along)) {
+            tracked = track(state, params, cur, &along, &along, false, dt, out);
+        }
+    }
     ego_pose_t turned = *predicted;
     if (tracked == TRACK_FAILED && turned_start(state, cur, predicted, &turned)) {
         /* The turned start stands for the prediction: the histograms' turn
          * with the predicted translation, two pieces of evidence. */
         tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, out);
     }
-    ego_pose_t along;
-    if (tracked == TRACK_FAILED && have_prediction && along_start(state, cur, &turned, &along)) {
+    if (tracked == TRACK_FAILED && !along_tried &&
+        along_start(state, params, cur, &turned, have_prediction, &along)) {
         /* Likewise: the projections' shift with the predicted heading. */
         tracked = track(state, params, cur, &along, &along, have_prediction, dt, out);
     }
