@@ -953,7 +953,7 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     out->points = state->slot[other_slot(state->last)].count;
     set_velocities(out);
     se->active = false;
-    advance(state, params, other_slot(state->last), se->time_us, out, false, matched,
+    advance(state, params, other_slot(state->last), se->time_us, out, se->stage_tracked, matched,
             &se->predicted, se->have_prediction);
 }
 
@@ -1092,7 +1092,7 @@ typedef enum { TRACK_FOUND, TRACK_UNFINISHED, TRACK_FAILED } track_outcome_t;
  * then goes on with it first. */
 static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                              const ego_pose_t *start, const ego_pose_t *predicted,
-                             bool have_prediction, uint32_t dt_us, ego_output_t *out)
+                             bool have_prediction, uint32_t dt_us, bool last_start, ego_output_t *out)
 {
     const ego_scan_t *last = &state->slot[state->last];
     const fx_bam32_t main_direction = state->main_direction[state->last];
@@ -1107,7 +1107,9 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
     if (!tracking_stands(params, st, &r, predicted, have_prediction, dt_us, main_direction)) {
-        return TRACK_FAILED;
+        /* The last start, cut before it matched every point: the next
+         * scan's budget finishes it (the search's first stage). */
+        return (last_start && ego_track_resume(&state->tracking)) ? TRACK_UNFINISHED : TRACK_FAILED;
     }
     return output_match(params, st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
                                                                                  : TRACK_FAILED;
@@ -1216,25 +1218,25 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
                                          uint32_t dt, ego_output_t *out)
 {
     track_outcome_t tracked =
-        track(state, params, cur, predicted, predicted, have_prediction, dt, out);
+        track(state, params, cur, predicted, predicted, have_prediction, dt, false, out);
     ego_pose_t along;
     bool along_tried = false;
     if (tracked == TRACK_FAILED && !have_prediction) {
         along_tried = true;
         if (along_start(state, params, cur, predicted, false, &along)) {
-            tracked = track(state, params, cur, &along, &along, false, dt, out);
+            tracked = track(state, params, cur, &along, &along, false, dt, false, out);
         }
     }
     ego_pose_t turned = *predicted;
     if (tracked == TRACK_FAILED && turned_start(state, cur, predicted, &turned)) {
         /* The turned start stands for the prediction: the histograms' turn
          * with the predicted translation, two pieces of evidence. */
-        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, out);
+        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, false, out);
     }
     if (tracked == TRACK_FAILED && !along_tried &&
         along_start(state, params, cur, &turned, have_prediction, &along)) {
         /* Likewise: the projections' shift with the predicted heading. */
-        tracked = track(state, params, cur, &along, &along, have_prediction, dt, out);
+        tracked = track(state, params, cur, &along, &along, have_prediction, dt, true, out);
     }
     return tracked;
 }

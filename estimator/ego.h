@@ -14,8 +14,11 @@
  *     scans' direction histograms (ego_hist_turn_guess), then from the
  *     shift along the direction of travel that best aligns the two scans'
  *     projections on it (ego_project_along: a speed the prediction
- *     missed). Along a corridor tracked with nothing to predict the motion
- *     along it, the motion stays unknown;
+ *     missed). The last start, when the budget cuts it before a pass over
+ *     every point, goes on in the next scan's budget (the scan is
+ *     recovering); its answer is a tracked motion. Along a corridor
+ *     tracked with nothing to predict the motion along it, the motion
+ *     stays unknown;
  *  3. otherwise search, anytime, against the last scan: robust tangents
  *     and HTAH for both scans, the histogram correlation's rotation
  *     candidates, for each candidate the tracking registration from the

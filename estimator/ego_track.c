@@ -545,6 +545,7 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
                                                         EGO_COST_SOLVE)) {
         run->converged = settled;
         run->finished = true;
+        run->cut = !full;
         return;
     }
     begin_pass(run);
@@ -575,6 +576,17 @@ bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
             close_pass(run, work);
         }
     }
+    return true;
+}
+
+bool ego_track_resume(ego_track_run_t *run)
+{
+    if (!run->cut) {
+        return false;
+    }
+    run->cut = false;
+    run->finished = false;
+    begin_pass(run);
     return true;
 }
 

@@ -633,6 +633,47 @@ static void test_track_gives_up_when_the_prediction_missed(void)
     TEST_ASSERT_TRUE_MESSAGE(r[0].iterations > 0u && 3u * spent[1] < spent[0], msg);
 }
 
+/* A tracking run the meter ends after its coarse pass has not been
+ * judged: resumed with the next meter, it goes on from where it stopped
+ * and ends where a run with no meter ends, bit for bit. A run that ended
+ * on its own is not resumed. */
+static void test_track_resumes_a_run_the_meter_cut(void)
+{
+    prepared(0.0, 0.0, 0.0, &g_last);
+    prepared(0.3, 0.05, 2.0, &g_current);
+    ego_track_params_t tp;
+    ego_track_defaults(&tp);
+    const ego_pose_t start = {FX_BAM32_DEG_C(1.5), FX_Q16_16_C(0.2), 0};
+    (void)track_to_end(&start, true, &tp);
+    ego_itcp_result_t whole;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_track_result(&g_track, &whole));
+    TEST_ASSERT_TRUE(whole.converged && whole.iterations > 1u);
+    TEST_ASSERT_FALSE(ego_track_resume(&g_track));
+    /* The smallest meter (in steps of 5 000 units) the run ends within,
+     * after a pass: its first, coarse one. */
+    bool ended = false;
+    uint32_t limit = 0u;
+    for (limit = 5000u; limit < 2000000u && !ended; limit += 5000u) {
+        ego_work_t w;
+        ego_work_start(&w, limit);
+        ego_track_start(&g_track, &g_last, &g_current, 0u, &start, true, &tp);
+        ended = ego_track_step(&g_track, &w);
+    }
+    TEST_ASSERT_TRUE(ended);
+    ego_itcp_result_t cut;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_track_result(&g_track, &cut));
+    TEST_ASSERT_EQUAL_UINT(1u, cut.iterations);
+    TEST_ASSERT_FALSE(cut.converged);
+    TEST_ASSERT_TRUE(ego_track_resume(&g_track));
+    TEST_ASSERT_FALSE(ego_track_resume(&g_track)); /* once: it runs again */
+    ego_work_t w;
+    ego_work_start(&w, EGO_WORK_UNLIMITED);
+    TEST_ASSERT_TRUE(ego_track_step(&g_track, &w));
+    ego_itcp_result_t resumed;
+    TEST_ASSERT_EQUAL_INT(EGO_ITCP_OK, ego_track_result(&g_track, &resumed));
+    TEST_ASSERT_EQUAL_MEMORY(&whole, &resumed, sizeof whole);
+}
+
 /* Tracking from a good prediction narrows its radius below the 0.05 m
  * every registration reaches, to 3 RMS distances of its passes (not below
  * radius_min); a search's registration stays at 0.05 m. Both land on the
@@ -674,6 +715,7 @@ int main(void)
     RUN_TEST(test_coarse_search_without_points_keeps_the_centre);
     RUN_TEST(test_track_gives_up_when_the_prediction_missed);
     RUN_TEST(test_track_trims_its_radius);
+    RUN_TEST(test_track_resumes_a_run_the_meter_cut);
     RUN_TEST(test_ego_first_scan_then_motion_and_velocities);
     RUN_TEST(test_ego_large_first_motion_needs_the_coarse_search);
     RUN_TEST(test_ego_long_interval_and_sparse_scans);
