@@ -7,12 +7,13 @@
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
  *
- * --budget sets the estimator's work budget (ego.h): `default` (the live
- * core's: 35.62 M work units, about Cortex-M3 instructions,
- * estimator/ego_work.h, per second of scan interval, at least 550 000 a
- * scan), U units per second, or `none` (the default for now: within the
- * budget the synthetic drives at sensor rate are not yet as accurate,
- * docs/estimator.md).
+ * --budget sets the estimator's work budget (ego.h): `default` (the
+ * default: the live core's, 35.62 M work units, about Cortex-M3
+ * instructions, estimator/ego_work.h, per second of scan interval, at
+ * least 550 000 a scan), U units per second, or `none` (unbounded: the
+ * offline mode for analysis, every scan answered at once). Within a
+ * budget a search may span several scans (their lines flagged recovering,
+ * 64); a recording that ends during one says so on stderr.
  * --prior FILE gives a motion prior per scan (lines `i j dx dy dtheta`, as
  * `import-carmen --odometry` writes them; ego.h says how it is used).
  * --pairs OUT also writes `i j dx dy dtheta` per consecutive pair (scan
@@ -55,12 +56,14 @@ typedef struct {
     FILE *frames; /* --frames: the loop's output goes here, or NULL */
     int header_written; /* --frames: the CSV header is out */
     double x, y, theta; /* integrated pose for --tum */
+    unsigned long recovering; /* lines flagged recovering since the last answer */
 } replay_io_t;
 
 /* Output of one scan: the extra files (host-only, doubles are fine). */
 static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
 {
     replay_io_t *io = ctx;
+    io->recovering = ((out->flags & EGO_FLAG_RECOVERING) != 0u) ? io->recovering + 1ul : 0ul;
     const double dx = (double)out->pose.x / 65536.0;
     const double dy = (double)out->pose.y / 65536.0;
     const double dt = (double)fx_bam32_diff(out->pose.theta, 0u) * (3.14159265358979323846 / 2147483648.0);
@@ -250,6 +253,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     static ego_loop_config_t config;
     static ego_loop_t loop;
     ego_loop_defaults(&config);
+    ego_budget_defaults(&config.ego); /* as live: --budget none for the offline mode */
     const char *path = NULL;
     const char *pairs_path = NULL;
     const char *prior_path = NULL;
@@ -398,6 +402,13 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                   (unsigned long)st->scans, (unsigned long)st->lines,
                   (unsigned long)st->predicted, (unsigned long)st->restarts,
                   (unsigned long)st->decode_errors);
+    if (io.recovering > 0ul) {
+        /* Live, the next scans' budgets would finish the search. */
+        (void)fprintf(stderr,
+                      "lmsego: replay: the recording ended during a search: its last %lu line(s) "
+                      "claim no motion (--budget none answers every scan)\n",
+                      io.recovering);
+    }
     if (io.write_failed || closed != 0) {
         cli_error("write error");
         return CLI_EXIT_RUNTIME;

@@ -110,13 +110,18 @@ endforeach()
 set(LMSEGO_SEQ ${LMSEGO_CLI_DATA}/../../../host_tests/data/sequences)
 lmsego_cli_test(replay_help ARGS replay --help
     OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego\ replay -DEXPECT_STDERR_EMPTY=ON)
-lmsego_cli_test(replay_header ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms
+lmsego_cli_test(replay_header ARGS replay --budget none ${LMSEGO_SEQ}/table2_361_cm.lms
     OPTIONS "-DSTDOUT_REGEX=^scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches\n1,0\\.026667,-2\\.4"
             -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=scans=2\ lines=1)
-lmsego_cli_test(replay_stdin ARGS replay - --period 0.1
+# Within the default budget the Table 2 pair's search outlasts its two-scan
+# stream: the line claims no motion (flag 64), and stderr says why.
+lmsego_cli_test(replay_ends_during_a_search ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS "-DSTDOUT_REGEX=\n1,0\\.026667,0\\.000000,0\\.000000,0\\.000000,0\\.000000,0\\.000000,0\\.000000,64,"
+            "-DSTDERR_REGEX=ended during a search: its last 1 line")
+lmsego_cli_test(replay_stdin ARGS replay - --period 0.1 --budget none
     OPTIONS -DSTDIN_FILE=${LMSEGO_SEQ}/table2_361_cm.lms -DSTDOUT_REGEX=\n1,0\\.100000,
             -DSTDERR_ONE_LINE=ON)
-lmsego_cli_test(replay_icp_hist ARGS replay --icp --hist HAH ${LMSEGO_SEQ}/table2_361_cm.lms
+lmsego_cli_test(replay_icp_hist ARGS replay --icp --hist HAH --budget none ${LMSEGO_SEQ}/table2_361_cm.lms
     OPTIONS -DSTDOUT_REGEX=\n1, -DSTDERR_ONE_LINE=ON)
 lmsego_cli_test(replay_missing_file ARGS replay ${LMSEGO_CLI_MISSING}
     OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
