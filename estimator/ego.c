@@ -1170,7 +1170,9 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
     fx_bam32_t direction = 0u;
     fx_q16_16_t window = params->coarse_window_first;
     if (have_prediction) {
-        const uint64_t d2 = (uint64_t)((int64_t)from->x * from->x + (int64_t)from->y * from->y);
+        /* Each square below 2^62: their sum fits unsigned. */
+        const uint64_t d2 =
+            (uint64_t)((int64_t)from->x * from->x) + (uint64_t)((int64_t)from->y * from->y);
         const fx_q16_16_t distance = (fx_q16_16_t)fx_sqrt_u64(d2);
         if (distance < ALONG_MOVE_MIN) {
             return false;
