@@ -79,19 +79,25 @@ static bool motion_known(const ego_state_t *state, uint32_t dt_us)
 
 /* The last motion scaled to a scan interval of dt_us (no motion when it
  * says nothing about it). */
-static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
+/* A motion over dt_us scaled to an interval of to_us (dt_us > 0). */
+static ego_pose_t scaled(const ego_pose_t *motion, uint32_t dt_us, uint32_t to_us)
 {
     ego_pose_t p = {0u, 0, 0};
-    if (!motion_known(state, dt_us)) {
-        return p;
-    }
-    const int64_t num = dt_us;
-    const int64_t den = state->motion_dt_us;
-    p.x = fx_sat_s32((int64_t)state->motion.x * num / den);
-    p.y = fx_sat_s32((int64_t)state->motion.y * num / den);
-    p.theta = (fx_bam32_t)(uint32_t)fx_sat_s32(
-        (int64_t)fx_bam32_diff(state->motion.theta, 0u) * num / den);
+    const int64_t num = to_us;
+    const int64_t den = (dt_us > 0u) ? dt_us : 1;
+    p.x = fx_sat_s32((int64_t)motion->x * num / den);
+    p.y = fx_sat_s32((int64_t)motion->y * num / den);
+    p.theta = (fx_bam32_t)(uint32_t)fx_sat_s32((int64_t)fx_bam32_diff(motion->theta, 0u) * num / den);
     return p;
+}
+
+static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
+{
+    if (!motion_known(state, dt_us)) {
+        const ego_pose_t none = {0u, 0, 0};
+        return none;
+    }
+    return scaled(&state->motion, state->motion_dt_us, dt_us);
 }
 
 /* Is the estimate within the prediction's trust distance of it. */
@@ -825,7 +831,9 @@ static void search_begin(ego_state_t *state, uint32_t time_us, uint32_t dt,
                          const ego_pose_t *predicted, bool have_prior, bool have_prediction,
                          bool light)
 {
-    const bool known_motion = motion_known(state, dt);
+    /* After a search that found nothing the motion may be anything: the
+     * first window again (around the prediction), not the narrow one. */
+    const bool known_motion = motion_known(state, dt) && !state->lost;
     ego_search_t *se = &state->search;
     memset(se, 0, sizeof *se);
     se->active = true;
@@ -901,12 +909,13 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
          * 1.6 m: a vehicle moving 3 m a scan was never found again). */
         state->predictable = false;
         state->misses = 0u;
-    } else if (tracked && (out->flags & EGO_FLAG_APERTURE) != 0u && !had_prediction) {
+    } else if (tracked && (out->flags & (EGO_FLAG_APERTURE | EGO_FLAG_RECOVERED)) == EGO_FLAG_APERTURE &&
+               !had_prediction) {
         /* Along a corridor with nothing to predict the motion along it
-         * the match's is only its start's: the motion stays unknown (a
-         * corridor entered at 3 m a scan from a standstill guess was
-         * taken for a standstill, and the exit's search never looked
-         * 3 m away). */
+         * a tracking's is only its start's (a search's is its window's
+         * best): the motion stays unknown (a corridor entered at 3 m a
+         * scan from a standstill guess was taken for a standstill, and the
+         * exit's search never looked 3 m away). */
         state->motion_dt_us = 0u;
         state->predictable = false;
         state->misses = 0u;
@@ -918,6 +927,7 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
         state->predictable = tracked || close;
         state->misses = 0u;
     }
+    state->lost = state->lost && !matched;
     state->last = cur;
     state->last_time_us = time_us;
 }
@@ -950,11 +960,17 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
         out->flags |= EGO_FLAG_RECOVERED;
     }
     state->bridge = recovered && matched;
+    state->before = state->motion;
+    state->before_dt_us = motion_known(state, se->dt_us) ? state->motion_dt_us : 0u;
     out->points = state->slot[other_slot(state->last)].count;
     set_velocities(out);
     se->active = false;
-    advance(state, params, other_slot(state->last), se->time_us, out, se->stage_tracked, matched,
+    /* A tracking's answer, or one that spanned scans, predicts the next
+     * motion as a tracked one does (the bridge after it tries the motion
+     * from before it too). */
+    advance(state, params, other_slot(state->last), se->time_us, out, se->stage_tracked || recovered, matched,
             &se->predicted, se->have_prediction);
+    state->lost = !matched;
 }
 
 static void finish_output(ego_state_t *state, ego_output_t *out, uint32_t time_us)
@@ -1088,11 +1104,17 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
 
 typedef enum { TRACK_FOUND, TRACK_UNFINISHED, TRACK_FAILED } track_outcome_t;
 
+/* What becomes of a start's run that the scan's budget ends: it goes on in
+ * the next scan's (the search's first stage), also when it was cut at the
+ * end of a coarse pass (the last start), or it is dropped (a trial). */
+typedef enum { START_GOES_ON, START_LAST, START_TRIAL } start_kind_t;
+
 /* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
  * then goes on with it first. */
 static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                              const ego_pose_t *start, const ego_pose_t *predicted,
-                             bool have_prediction, uint32_t dt_us, bool last_start, ego_output_t *out)
+                             bool have_prediction, uint32_t dt_us, start_kind_t kind,
+                             ego_output_t *out)
 {
     const ego_scan_t *last = &state->slot[state->last];
     const fx_bam32_t main_direction = state->main_direction[state->last];
@@ -1102,14 +1124,15 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
     if (!done) {
-        return TRACK_UNFINISHED;
+        return (kind == START_TRIAL) ? TRACK_FAILED : TRACK_UNFINISHED;
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
     if (!tracking_stands(params, st, &r, predicted, have_prediction, dt_us, main_direction)) {
         /* The last start, cut before it matched every point: the next
          * scan's budget finishes it (the search's first stage). */
-        return (last_start && ego_track_resume(&state->tracking)) ? TRACK_UNFINISHED : TRACK_FAILED;
+        return (kind == START_LAST && ego_track_resume(&state->tracking)) ? TRACK_UNFINISHED
+                                                                           : TRACK_FAILED;
     }
     return output_match(params, st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
                                                                                  : TRACK_FAILED;
@@ -1217,28 +1240,37 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
  * tracking starts from no motion. */
 static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                                          const ego_pose_t *predicted, bool have_prediction,
-                                         uint32_t dt, ego_output_t *out)
+                                         bool after_search, uint32_t dt, ego_output_t *out)
 {
     track_outcome_t tracked =
-        track(state, params, cur, predicted, predicted, have_prediction, dt, false, out);
+        track(state, params, cur, predicted, predicted, have_prediction, dt, START_GOES_ON, out);
     ego_pose_t along;
     bool along_tried = false;
     if (tracked == TRACK_FAILED && !have_prediction) {
         along_tried = true;
         if (along_start(state, params, cur, predicted, false, &along)) {
-            tracked = track(state, params, cur, &along, &along, false, dt, false, out);
+            tracked = track(state, params, cur, &along, &along, false, dt, START_GOES_ON, out);
         }
     }
     ego_pose_t turned = *predicted;
     if (tracked == TRACK_FAILED && turned_start(state, cur, predicted, &turned)) {
         /* The turned start stands for the prediction: the histograms' turn
          * with the predicted translation, two pieces of evidence. */
-        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, false, out);
+        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON, out);
     }
     if (tracked == TRACK_FAILED && !along_tried &&
         along_start(state, params, cur, &turned, have_prediction, &along)) {
         /* Likewise: the projections' shift with the predicted heading. */
-        tracked = track(state, params, cur, &along, &along, have_prediction, dt, true, out);
+        tracked = track(state, params, cur, &along, &along, have_prediction, dt, START_LAST, out);
+    }
+    if (tracked == TRACK_FAILED && after_search && state->before_dt_us != 0u) {
+        /* The search's motion predicts the scans it spanned (a turn begun
+         * goes on); where it was a one-off (a jump, a bump), the motion
+         * from before it is a start too. */
+        const ego_pose_t before = scaled(&state->before, state->before_dt_us, dt);
+        if (!close_to(&before, predicted, params)) {
+            tracked = track(state, params, cur, &before, &before, false, dt, START_TRIAL, out);
+        }
     }
     return tracked;
 }
@@ -1288,6 +1320,7 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->predictable = false;
     state->misses = 0u;
     state->bridge = false;
+    state->lost = false;
 }
 
 /* The motion from the last scan to the prepared scan in slot cur, dt_us
@@ -1304,8 +1337,8 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
      * search's motion predicts it, tracked whatever its length. */
     const bool after_search = state->bridge;
     state->bridge = false;
-    const bool have_prediction = prior != NULL || after_search ||
-                                 (motion_known(state, dt) && state->predictable);
+    const bool have_prediction =
+        prior != NULL || (motion_known(state, dt) && (after_search || state->predictable));
     const bool may_track = dt <= TRACK_INTERVAL_US || after_search;
     if (current->count < params->min_points || last->count < params->min_points) {
         out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
@@ -1315,7 +1348,8 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         return;
     }
     const track_outcome_t tracked =
-        may_track ? track_from_starts(state, params, cur, &predicted, have_prediction, dt, out)
+        may_track ? track_from_starts(state, params, cur, &predicted, have_prediction, after_search,
+                                      dt, out)
                   : TRACK_FAILED;
     if (tracked == TRACK_FOUND) {
         set_velocities(out);

@@ -199,6 +199,11 @@ typedef struct {
     uint8_t misses;          /* searches in a row whose result the prediction missed */
     bool bridge;             /* a search that took several scans just ended: the next
                                 interval is long, its prediction the search's motion */
+    bool lost;               /* the last search found nothing: the next one's first
+                                window is the widest, whatever the motion was */
+    ego_pose_t before;       /* the motion before the last search, over before_dt_us
+                                (0: none): a start of the bridge after it */
+    uint32_t before_dt_us;
     bool refined[2];         /* the slot has robust tangents and the search's histogram */
     fx_bam32_t main_direction[2]; /* of each slot's histogram: its fullest bin */
     bool have_previous;      /* the time of the previous scan, for the budget */
