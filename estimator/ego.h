@@ -41,8 +41,11 @@
  *     the last trusted scan to the scan the search started from (flag
  *     EGO_FLAG_RECOVERED, dt_us the time between them), and the next scan
  *     is tracked against that one (over the long interval, from the
- *     search's motion; when that fails, the prediction bridges it, flag
- *     EGO_FLAG_PREDICTED): summed, the poses leave no hole. A search still
+ *     search's motion, then from the other starts and, last, from the
+ *     motion before the search; when all fail, the prediction bridges
+ *     it, flag EGO_FLAG_PREDICTED): summed, the poses leave no hole. A
+ *     search that found nothing leaves the next one its first window
+ *     (coarse_window_first). A search still
  *     running after max_search_scans starts over. Under a small budget the
  *     search is light (ego.c, docs/estimator.md "The work budget").
  * A scan whose preparation does not fit its budget is skipped in the same
