@@ -80,7 +80,7 @@ static bool motion_known(const ego_state_t *state, uint32_t dt_us)
 /* The last motion scaled to a scan interval of dt_us (no motion when it
  * says nothing about it). */
 /* A motion over dt_us scaled to an interval of to_us (dt_us > 0). */
-static ego_pose_t scaled(const ego_pose_t *motion, uint32_t dt_us, uint32_t to_us)
+static ego_pose_t scale_motion(const ego_pose_t *motion, uint32_t dt_us, uint32_t to_us)
 {
     ego_pose_t p = {0u, 0, 0};
     const int64_t num = to_us;
@@ -97,7 +97,7 @@ static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
         const ego_pose_t none = {0u, 0, 0};
         return none;
     }
-    return scaled(&state->motion, state->motion_dt_us, dt_us);
+    return scale_motion(&state->motion, state->motion_dt_us, dt_us);
 }
 
 /* Is the estimate within the prediction's trust distance of it. */
@@ -1267,7 +1267,7 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
         /* The search's motion predicts the scans it spanned (a turn begun
          * goes on); where it was a one-off (a jump, a bump), the motion
          * from before it is a start too. */
-        const ego_pose_t before = scaled(&state->before, state->before_dt_us, dt);
+        const ego_pose_t before = scale_motion(&state->before, state->before_dt_us, dt);
         if (!close_to(&before, predicted, params)) {
             tracked = track(state, params, cur, &before, &before, false, dt, START_TRIAL, out);
         }
