@@ -87,7 +87,8 @@ static ego_pose_t scale_motion(const ego_pose_t *motion, uint32_t dt_us, uint32_
     const int64_t den = (dt_us > 0u) ? dt_us : 1;
     p.x = fx_sat_s32((int64_t)motion->x * num / den);
     p.y = fx_sat_s32((int64_t)motion->y * num / den);
-    p.theta = (fx_bam32_t)(uint32_t)fx_sat_s32((int64_t)fx_bam32_diff(motion->theta, 0u) * num / den);
+    p.theta = (fx_bam32_t)(uint32_t)fx_sat_s32(
+        (int64_t)fx_bam32_diff(motion->theta, 0u) * num / den);
     return p;
 }
 
@@ -909,8 +910,8 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
          * 1.6 m: a vehicle moving 3 m a scan was never found again). */
         state->predictable = false;
         state->misses = 0u;
-    } else if (tracked && (out->flags & (EGO_FLAG_APERTURE | EGO_FLAG_RECOVERED)) == EGO_FLAG_APERTURE &&
-               !had_prediction) {
+    } else if (tracked && !had_prediction &&
+               (out->flags & (EGO_FLAG_APERTURE | EGO_FLAG_RECOVERED)) == EGO_FLAG_APERTURE) {
         /* Along a corridor with nothing to predict the motion along it
          * a tracking's is only its start's (a search's is its window's
          * best): the motion stays unknown (a corridor entered at 3 m a
@@ -968,8 +969,8 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
     /* A tracking's answer, or one that spanned scans, predicts the next
      * motion as a tracked one does (the bridge after it tries the motion
      * from before it too). */
-    advance(state, params, other_slot(state->last), se->time_us, out, se->stage_tracked || recovered, matched,
-            &se->predicted, se->have_prediction);
+    advance(state, params, other_slot(state->last), se->time_us, out,
+            se->stage_tracked || recovered, matched, &se->predicted, se->have_prediction);
     state->lost = !matched;
 }
 
@@ -1233,7 +1234,8 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
 /* Tracking from its starts, each while the last failed: the prediction,
  * the turned start, the along start (without a prediction the along start
  * comes before the turned one: a vehicle's first motion seen is more
- * often a speed than a turn). Tracking is for scans close in time (the
+ * often a speed than a turn), and after a search that spanned scans the
+ * motion from before it (a trial). Tracking is for scans close in time (the
  * caller's may_track): over a long interval (keyframes) a prediction can
  * be metres off, and a local registration from it can settle in a wrong
  * minimum that fits well; the search is safer. Without a prediction
@@ -1256,7 +1258,8 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
     if (tracked == TRACK_FAILED && turned_start(state, cur, predicted, &turned)) {
         /* The turned start stands for the prediction: the histograms' turn
          * with the predicted translation, two pieces of evidence. */
-        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON, out);
+        tracked =
+            track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON, out);
     }
     if (tracked == TRACK_FAILED && !along_tried &&
         along_start(state, params, cur, &turned, have_prediction, &along)) {
