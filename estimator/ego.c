@@ -1110,12 +1110,19 @@ typedef enum { TRACK_FOUND, TRACK_UNFINISHED, TRACK_FAILED } track_outcome_t;
  * end of a coarse pass (the last start), or it is dropped (a trial). */
 typedef enum { START_GOES_ON, START_LAST, START_TRIAL } start_kind_t;
 
+/* The registration an earlier start of the scan converged to, fitting
+ * loosely (half the accept share over both groups, not along a corridor). */
+typedef struct {
+    bool have;
+    ego_itcp_result_t r;
+} loose_fit_t;
+
 /* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
  * then goes on with it first. */
 static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                              const ego_pose_t *start, const ego_pose_t *predicted,
                              bool have_prediction, uint32_t dt_us, start_kind_t kind,
-                             ego_output_t *out)
+                             loose_fit_t *loose, ego_output_t *out)
 {
     const ego_scan_t *last = &state->slot[state->last];
     const fx_bam32_t main_direction = state->main_direction[state->last];
@@ -1129,7 +1136,20 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-    if (!tracking_stands(params, st, &r, predicted, have_prediction, dt_us, main_direction)) {
+    /* Two starts of the scan that converge to one pose, each fitting
+     * loosely, agree: the light search's rule for its coarse passes (the
+     * second may be cut by the budget on its way back). */
+    const bool fits_loosely = st == EGO_ITCP_OK && !r.aperture && half_accepted(params, &r);
+    const bool agrees = fits_loosely && loose->have && close_to(&r.pose, &loose->r.pose, params);
+    if (agrees) {
+        r = loose->r; /* the converged one answers */
+    }
+    if (fits_loosely && r.converged && !loose->have) {
+        loose->have = true;
+        loose->r = r;
+    }
+    if (!agrees &&
+        !tracking_stands(params, st, &r, predicted, have_prediction, dt_us, main_direction)) {
         /* The last start, cut before it matched every point: the next
          * scan's budget finishes it (the search's first stage). */
         return (kind == START_LAST && ego_track_resume(&state->tracking)) ? TRACK_UNFINISHED
@@ -1240,31 +1260,45 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
  * be metres off, and a local registration from it can settle in a wrong
  * minimum that fits well; the search is safer. Without a prediction
  * tracking starts from no motion. */
+#define PROBE FX_Q16_16_C(0.25) /* within tracking's 0.3 m, beyond its trust 0.1 m */
+
 static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                                          const ego_pose_t *predicted, bool have_prediction,
                                          bool after_search, uint32_t dt, ego_output_t *out)
 {
-    track_outcome_t tracked =
-        track(state, params, cur, predicted, predicted, have_prediction, dt, START_GOES_ON, out);
+    loose_fit_t loose;
+    memset(&loose, 0, sizeof loose);
+    track_outcome_t tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
+                                    START_GOES_ON, &loose, out);
     ego_pose_t along;
     bool along_tried = false;
     if (tracked == TRACK_FAILED && !have_prediction) {
         along_tried = true;
-        if (along_start(state, params, cur, predicted, false, &along)) {
-            tracked = track(state, params, cur, &along, &along, false, dt, START_GOES_ON, out);
+        if (loose.have) {
+            /* Nothing to confirm the loose fit (a cold start among moving
+             * cars, whose group fits poorly): a start PROBE ahead of it
+             * along the heading that comes back to it agrees. */
+            ego_pose_t probe = loose.r.pose;
+            probe.x = fx_add_q16(probe.x, PROBE);
+            tracked =
+                track(state, params, cur, &probe, &probe, false, dt, START_TRIAL, &loose, out);
+        } else if (along_start(state, params, cur, predicted, false, &along)) {
+            tracked =
+                track(state, params, cur, &along, &along, false, dt, START_GOES_ON, &loose, out);
         }
     }
     ego_pose_t turned = *predicted;
     if (tracked == TRACK_FAILED && turned_start(state, cur, predicted, &turned)) {
         /* The turned start stands for the prediction: the histograms' turn
          * with the predicted translation, two pieces of evidence. */
-        tracked =
-            track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON, out);
+        tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON,
+                        &loose, out);
     }
     if (tracked == TRACK_FAILED && !along_tried &&
         along_start(state, params, cur, &turned, have_prediction, &along)) {
         /* Likewise: the projections' shift with the predicted heading. */
-        tracked = track(state, params, cur, &along, &along, have_prediction, dt, START_LAST, out);
+        tracked = track(state, params, cur, &along, &along, have_prediction, dt, START_LAST, &loose,
+                        out);
     }
     if (tracked == TRACK_FAILED && after_search && state->before_dt_us != 0u) {
         /* The search's motion predicts the scans it spanned (a turn begun
@@ -1272,7 +1306,8 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
          * from before it is a start too. */
         const ego_pose_t before = scale_motion(&state->before, state->before_dt_us, dt);
         if (!close_to(&before, predicted, params)) {
-            tracked = track(state, params, cur, &before, &before, false, dt, START_TRIAL, out);
+            tracked =
+                track(state, params, cur, &before, &before, false, dt, START_TRIAL, &loose, out);
         }
     }
     return tracked;
