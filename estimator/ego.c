@@ -1144,7 +1144,9 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     if (agrees) {
         r = loose->r; /* the converged one answers */
     }
-    if (fits_loosely && r.converged && !loose->have) {
+    /* Converged, or ended by the budget before its iterations did. */
+    const bool settled = r.converged || r.iterations < params->track.max_iterations;
+    if (fits_loosely && settled && !loose->have) {
         loose->have = true;
         loose->r = r;
     }
