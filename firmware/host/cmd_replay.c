@@ -16,9 +16,13 @@
  * 64); a recording that ends during one says so on stderr.
  * --prior FILE gives a motion prior per scan (lines `i j dx dy dtheta`, as
  * `import-carmen --odometry` writes them; ego.h says how it is used).
- * --pairs OUT also writes `i j dx dy dtheta` per consecutive pair (scan
- * numbers count decoded scans; the format relpose_eval.py reads); a
- * restart (flag 1) has no relative pose and gives no line. --tum OUT
+ * --pairs OUT also writes `i j dx dy dtheta` per line's motion (scan
+ * numbers count decoded scans; the format relpose_eval.py reads): j - 1 to
+ * j for a line of scan j; a restart (flag 1) and a recovering line (64)
+ * claim no motion and give no line; a recovered line (128) gives the
+ * motion from the last answered scan to the scan its search started from,
+ * and the line after it the motion from there (a pair over several
+ * scans). --tum OUT
  * writes the integrated trajectory `time x y z qx qy qz qw`, starting at
  * the origin; across a restart it holds the last pose. --frames OUT runs
  * the loop in its frame mode (ego_frame.h) into OUT and prints the same
@@ -57,6 +61,12 @@ typedef struct {
     int header_written; /* --frames: the CSV header is out */
     double x, y, theta; /* integrated pose for --tum */
     unsigned long recovering; /* lines flagged recovering since the last answer */
+    /* --pairs: the scan the next motion starts from (valid once have_ref),
+     * and the first scan of a run of recovering lines (the scan a search
+     * started from: a recovered line's motion ends there). */
+    int have_ref;
+    uint32_t ref;
+    uint32_t target;
 } replay_io_t;
 
 /* Output of one scan: the extra files (host-only, doubles are fine). */
@@ -84,11 +94,35 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
         }
         io->header_written = 1;
     }
-    if (io->pairs != NULL && !restart &&
-        fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n",
-                first + step * (scan - 1ul), first + step * scan, (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
-                (uy < 0) ? "-" : "", llabs(uy) / 1000000, llabs(uy) % 1000000, dt) < 0) {
-        io->write_failed = 1;
+    /* The pair a line's motion spans (as pairs_error.py reads the CSV): a
+     * restart starts over; a recovering line claims nothing; a recovered
+     * one spans from the last answered scan to the scan its search started
+     * from; any other line to its own scan. */
+    const int recovering = (out->flags & EGO_FLAG_RECOVERING) != 0u;
+    if (restart) {
+        io->have_ref = 1;
+        io->ref = scan;
+    } else {
+        if (!io->have_ref) {
+            io->have_ref = 1;
+            io->ref = scan - 1u;
+        }
+        if (recovering && io->recovering == 1ul) {
+            io->target = scan; /* the first of the run */
+        }
+    }
+    if (!restart && !recovering) {
+        const uint32_t end =
+            ((out->flags & EGO_FLAG_RECOVERED) != 0u && io->target != 0u) ? io->target : scan;
+        if (io->pairs != NULL && end > io->ref &&
+            fprintf(io->pairs, "%lu %lu %s%lld.%06lld %s%lld.%06lld %.9f\n",
+                    first + step * (unsigned long)io->ref, first + step * (unsigned long)end,
+                    (ux < 0) ? "-" : "", llabs(ux) / 1000000, llabs(ux) % 1000000,
+                    (uy < 0) ? "-" : "", llabs(uy) / 1000000, llabs(uy) % 1000000, dt) < 0) {
+            io->write_failed = 1;
+        }
+        io->ref = end;
+        io->target = 0u;
     }
     if (io->tum != NULL) {
         if (!restart) {
