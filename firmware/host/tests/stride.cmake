@@ -124,7 +124,7 @@ foreach(name none prior)
         set(args --prior ${OUT_DIR}/s2o1.odom)
     endif()
     execute_process(COMMAND ${EXE} replay ${OUT_DIR}/s2o1.lms --scan-step 2 --scan-offset 1
-                            --pairs ${OUT_DIR}/o1_${name}.pairs ${args}
+                            --budget none --pairs ${OUT_DIR}/o1_${name}.pairs ${args}
         OUTPUT_VARIABLE csv_o1_${name} RESULT_VARIABLE rc)
     file(STRINGS ${OUT_DIR}/o1_${name}.pairs pairs)
     list(GET pairs 4 last)
