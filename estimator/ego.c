@@ -1273,9 +1273,7 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
     track_outcome_t tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
                                     START_GOES_ON, &loose, out);
     ego_pose_t along;
-    bool along_tried = false;
     if (tracked == TRACK_FAILED && !have_prediction) {
-        along_tried = true;
         if (loose.have) {
             /* Nothing to confirm the loose fit (a cold start among moving
              * cars, whose group fits poorly): a start PROBE ahead of it
@@ -1296,8 +1294,8 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
         tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON,
                         &loose, out);
     }
-    if (tracked == TRACK_FAILED && !along_tried &&
-        along_start(state, params, cur, &turned, have_prediction, &along)) {
+    if (tracked == TRACK_FAILED && have_prediction &&
+        along_start(state, params, cur, &turned, true, &along)) {
         /* Likewise: the projections' shift with the predicted heading. */
         tracked = track(state, params, cur, &along, &along, have_prediction, dt, START_LAST, &loose,
                         out);

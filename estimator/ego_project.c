@@ -50,13 +50,20 @@ static uint32_t cells_units(int32_t n)
     return (2u * (uint32_t)n + 1u) * (2u * (uint32_t)n + 1u) * EGO_COST_PROJECT_CELL;
 }
 
+/* The most a direction's correlation over `shifts` shifts can cost: every
+ * current point in a bin of its own. */
+static uint32_t direction_units_max(const ego_scan_t *last, const ego_scan_t *current,
+                                    uint32_t shifts)
+{
+    const uint32_t filled = (current->count < EGO_PROJECT_BINS) ? current->count : EGO_PROJECT_BINS;
+    return direction_units(last, current, filled, shifts);
+}
+
 uint32_t ego_project_direction_cost_max(const ego_scan_t *last, const ego_scan_t *current,
                                         fx_q16_16_t window, fx_q16_16_t bin)
 {
     const int32_t n = ego_project_side(window, bin);
-    const uint32_t shifts = 2u * (uint32_t)shifts_of(n) + 1u;
-    const uint32_t filled = (current->count < EGO_PROJECT_BINS) ? current->count : EGO_PROJECT_BINS;
-    return direction_units(last, current, filled, shifts);
+    return direction_units_max(last, current, 2u * (uint32_t)shifts_of(n) + 1u);
 }
 
 uint32_t ego_project_rank_cost(fx_q16_16_t window, fx_q16_16_t bin)
@@ -305,9 +312,7 @@ uint32_t ego_project_cells(const ego_scan_t *last, const ego_scan_t *current,
 uint32_t ego_project_along_cost_max(const ego_scan_t *last, const ego_scan_t *current,
                                     fx_q16_16_t window, fx_q16_16_t bin)
 {
-    const uint32_t shifts = 2u * (uint32_t)ego_project_side(window, bin) + 1u;
-    const uint32_t filled = (current->count < EGO_PROJECT_BINS) ? current->count : EGO_PROJECT_BINS;
-    return direction_units(last, current, filled, shifts);
+    return direction_units_max(last, current, 2u * (uint32_t)ego_project_side(window, bin) + 1u);
 }
 
 bool ego_project_along(const ego_scan_t *last, const ego_scan_t *current, fx_bam32_t direction,
