@@ -58,6 +58,7 @@ void ego_reset(ego_state_t *state)
     state->predictable = false;
     state->misses = 0u;
     state->bridge = false;
+    state->along_predicted = false;
     state->have_previous = false;
     state->previous_time_us = 0u;
     state->refined[0] = false;
@@ -929,6 +930,7 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
         state->misses = 0u;
     }
     state->lost = state->lost && !matched;
+    state->along_predicted = matched && had_prediction && (out->flags & EGO_FLAG_APERTURE) != 0u;
     state->last = cur;
     state->last_time_us = time_us;
 }
@@ -1270,9 +1272,19 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
 {
     loose_fit_t loose;
     memset(&loose, 0, sizeof loose);
-    track_outcome_t tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
-                                    START_GOES_ON, &loose, out);
+    track_outcome_t tracked = TRACK_FAILED;
     ego_pose_t along;
+    /* After a corridor the speed is the one from before it (or the
+     * entry's): at its exit it can be a fifth off, beyond tracking's
+     * reach, so the along start comes first. */
+    const bool along_first = have_prediction && state->along_predicted;
+    if (along_first && along_start(state, params, cur, predicted, true, &along)) {
+        tracked = track(state, params, cur, &along, &along, true, dt, START_GOES_ON, &loose, out);
+    }
+    if (tracked == TRACK_FAILED) {
+        tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
+                        START_GOES_ON, &loose, out);
+    }
     if (tracked == TRACK_FAILED && !have_prediction) {
         if (loose.have) {
             /* Nothing to confirm the loose fit (a cold start among moving
@@ -1294,7 +1306,7 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
         tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON,
                         &loose, out);
     }
-    if (tracked == TRACK_FAILED && have_prediction &&
+    if (tracked == TRACK_FAILED && have_prediction && !along_first &&
         along_start(state, params, cur, &turned, true, &along)) {
         /* Likewise: the projections' shift with the predicted heading. */
         tracked = track(state, params, cur, &along, &along, have_prediction, dt, START_LAST, &loose,
@@ -1359,6 +1371,7 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->misses = 0u;
     state->bridge = false;
     state->lost = false;
+    state->along_predicted = false;
 }
 
 /* The motion from the last scan to the prepared scan in slot cur, dt_us

@@ -204,6 +204,9 @@ typedef struct {
     uint8_t misses;          /* searches in a row whose result the prediction missed */
     bool bridge;             /* a search that took several scans just ended: the next
                                 interval is long, its prediction the search's motion */
+    bool along_predicted;    /* the last motion along the main direction was the
+                                prediction's (a corridor): the next scan looks
+                                for the speed first */
     bool lost;               /* the last search found nothing: the next one's first
                                 window is the widest, whatever the motion was */
     ego_pose_t before;       /* the motion before the last search, over before_dt_us

@@ -495,6 +495,61 @@ static void test_ego_budget_tracks_a_missed_speed(void)
     }
 }
 
+/* A corridor between two rooms (the fast ring road's, in small): entered
+ * at 2.0 m a scan, left at 2.6 m (the vehicle sped up inside, where the
+ * walls cannot tell how far it went and the line keeps the predicted 2.0
+ * m). At the exit the prediction is 0.6 m short, beyond tracking's reach:
+ * the along start comes first there, and every scan is answered within
+ * its budget (before, the exit's scan was a search spanning two scans). */
+static const synth_wall_t corridor_between_rooms[] = {
+    {-40.0, -10.0, -40.0, 10.0}, {-40.0, 10.0, -12.0, 10.0}, {-40.0, -10.0, -12.0, -10.0},
+    {-12.0, 10.0, -12.0, 1.5},   {-12.0, -10.0, -12.0, -1.5},
+    {-12.0, 1.5, 12.0, 1.5},     {-12.0, -1.5, 12.0, -1.5},
+    {12.0, 1.5, 12.0, 10.0},     {12.0, -1.5, 12.0, -10.0},
+    {12.0, 10.0, 45.0, 10.0},    {12.0, -10.0, 45.0, -10.0}, {45.0, -10.0, 45.0, 10.0},
+    {25.0, 4.0, 26.0, 4.0},      {26.0, 4.0, 26.0, 5.0},     {30.0, -6.0, 31.0, -6.0},
+    {30.0, -6.0, 30.0, -5.0},
+};
+
+static void test_ego_budget_leaves_a_corridor_faster(void)
+{
+    ego_defaults(&g_params);
+    ego_budget_defaults(&g_params);
+    ego_reset(&g_state);
+    const unsigned nwalls = sizeof corridor_between_rooms / sizeof corridor_between_rooms[0];
+    double x = -36.0;
+    double speed = 2.0;
+    unsigned exits = 0u;
+    for (unsigned k = 0u; x < 30.0; k++) {
+        if (x > -10.0) {
+            speed = 2.6;
+        }
+        const double moved = (k == 0u) ? 0.0 : speed;
+        x += moved;
+        synth_scan(corridor_between_rooms, nwalls, x, 0.0, 0.0, 361u, LMS_UNIT_CM, &g_lms);
+        ego_output_t out;
+        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
+                                                  k * 26667u, &out));
+        char msg[128];
+        (void)snprintf(msg, sizeof msg, "scan %u at x %.1f: pose (%.3f, %.3f) flags 0x%x work %u",
+                       k, x, fx_q16_16_to_double(out.pose.x), fx_q16_16_to_double(out.pose.y),
+                       (unsigned)out.flags, (unsigned)out.work);
+        TEST_ASSERT_TRUE_MESSAGE(out.work <= out.work_limit, msg);
+        if (k < 2u) {
+            continue; /* the cold start has its own test */
+        }
+        TEST_ASSERT_EQUAL_HEX16_MESSAGE(0u, out.flags & (EGO_FLAG_RECOVERING | EGO_FLAG_PREDICTED),
+                                        msg);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.y)) < 0.05, msg);
+        if ((out.flags & EGO_FLAG_APERTURE) == 0u) {
+            TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - moved) < 0.05, msg);
+            exits += (x > 12.0) ? 1u : 0u;
+        }
+    }
+    /* The rooms' scans beyond the exit were measured, not predicted. */
+    TEST_ASSERT_TRUE(exits >= 5u);
+}
+
 /* Unbounded, the same scans are spent on until done: every scan is
  * answered at once (nothing recovering), and the meter says so. */
 static void test_ego_unbounded_answers_every_scan(void)
@@ -734,6 +789,7 @@ int main(void)
     RUN_TEST(test_ego_budget_holds_on_adversarial_scans);
     RUN_TEST(test_ego_budget_follows_the_interval);
     RUN_TEST(test_ego_budget_tracks_a_missed_speed);
+    RUN_TEST(test_ego_budget_leaves_a_corridor_faster);
     RUN_TEST(test_ego_ring_flags_its_rotation);
     RUN_TEST(test_ego_unbounded_answers_every_scan);
     RUN_TEST(test_ego_budget_recovers_from_a_jump_without_a_hole);
