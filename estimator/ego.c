@@ -1202,18 +1202,20 @@ static bool turned_start(ego_state_t *state, uint8_t cur, const ego_pose_t *pred
  * aligns the two scans' projections on it (ego_project_along, surfaces
  * facing it only: not the corridor's walls), within half the predicted
  * distance (ALONG_WINDOW_MIN to _MAX; without a prediction, the first
- * window), is a start for tracking; false when the prediction moves too
- * little to have a direction, the best shift is within ALONG_SAME of the
- * start (tracking started there already), or the meter cannot pay for
- * it. */
+ * window), is a start for tracking (ALONG_SHIFTED); ALONG_STILL when the
+ * best shift is within ALONG_SAME of `from` (tracking starts there
+ * already); ALONG_NONE when the prediction moves too little to have a
+ * direction, no surface faces it, or the meter cannot pay for it. */
 #define ALONG_MOVE_MIN FX_Q16_16_C(0.3)
 #define ALONG_WINDOW_MIN FX_Q16_16_C(0.5)
 #define ALONG_WINDOW_MAX FX_Q16_16_C(4.0)
 #define ALONG_FINE_MAX FX_Q16_16_C(2.0) /* up to here in bins of 0.1 m, beyond of 0.2 m */
 #define ALONG_SAME FX_Q16_16_C(0.15)
 
-static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t cur,
-                        const ego_pose_t *from, bool have_prediction, ego_pose_t *start)
+typedef enum { ALONG_NONE, ALONG_STILL, ALONG_SHIFTED } along_t;
+
+static along_t along_start(ego_state_t *state, const ego_params_t *params, uint8_t cur,
+                           const ego_pose_t *from, bool have_prediction, ego_pose_t *start)
 {
     fx_bam32_t direction = 0u;
     fx_q16_16_t window = params->coarse_window_first;
@@ -1223,7 +1225,7 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
             (uint64_t)((int64_t)from->x * from->x) + (uint64_t)((int64_t)from->y * from->y);
         const fx_q16_16_t distance = (fx_q16_16_t)fx_sqrt_u64(d2);
         if (distance < ALONG_MOVE_MIN) {
-            return false;
+            return ALONG_NONE;
         }
         direction = fx_atan2(from->y, from->x);
         window = distance / 2;
@@ -1234,7 +1236,7 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
     const ego_scan_t *last = &state->slot[state->last];
     const ego_scan_t *current = &state->slot[cur];
     if (!ego_work_allows(&state->work, ego_project_along_cost_max(last, current, window, bin))) {
-        return false;
+        return ALONG_NONE;
     }
     fx_q16_16_t shift = 0;
     uint32_t units = 0u;
@@ -1243,8 +1245,11 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
                                          &state->projection, &shift, &units);
     ego_work_spend(&state->work, units);
     STAGE(EGO_STAGE_OTHER);
-    if (!found || (shift < ALONG_SAME && shift > -ALONG_SAME)) {
-        return false;
+    if (!found) {
+        return ALONG_NONE;
+    }
+    if (shift < ALONG_SAME && shift > -ALONG_SAME) {
+        return ALONG_STILL;
     }
     fx_q2_30_t s;
     fx_q2_30_t c;
@@ -1252,14 +1257,13 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
     *start = *from;
     start->x = fx_add_q16(from->x, fx_mul_q16_q30(shift, c));
     start->y = fx_add_q16(from->y, fx_mul_q16_q30(shift, s));
-    return true;
+    return ALONG_SHIFTED;
 }
 
 /* Tracking from its starts, each while the last failed: the prediction,
- * the turned start, the along start (without a prediction the along start
- * comes before the turned one: a vehicle's first motion seen is more
- * often a speed than a turn), and after a search that spanned scans the
- * motion from before it (a trial). Tracking is for scans close in time (the
+ * the turned start, the along start (first where the speed is least
+ * known, below), and after a search that spanned scans the motion from
+ * before it (a trial). Tracking is for scans close in time (the
  * caller's may_track): over a long interval (keyframes) a prediction can
  * be metres off, and a local registration from it can settle in a wrong
  * minimum that fits well; the search is safer. Without a prediction
@@ -1268,35 +1272,48 @@ static bool along_start(ego_state_t *state, const ego_params_t *params, uint8_t 
 
 static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                                          const ego_pose_t *predicted, bool have_prediction,
-                                         bool after_search, uint32_t dt, ego_output_t *out)
+                                         bool after_search, uint32_t dt, bool *from_along,
+                                         ego_output_t *out)
 {
+    *from_along = false;
     loose_fit_t loose;
     memset(&loose, 0, sizeof loose);
     track_outcome_t tracked = TRACK_FAILED;
     ego_pose_t along;
-    /* After a corridor the speed is the one from before it (or the
+    /* The along start comes first where the speed is least known: without
+     * a prediction (a cold start at 3 m a scan left the budget no room for
+     * it after tracking from no motion, and its search took 7 scans), and
+     * after a corridor, where the speed is the one from before it (or the
      * entry's): at its exit it can be a fifth off, beyond tracking's
-     * reach, so the along start comes first. */
-    const bool along_first = have_prediction && state->along_predicted;
-    if (along_first && along_start(state, params, cur, predicted, true, &along)) {
-        tracked = track(state, params, cur, &along, &along, true, dt, START_GOES_ON, &loose, out);
+     * reach. A standstill's best shift is no shift: no start. */
+    const bool along_first = !have_prediction || state->along_predicted;
+    const along_t first =
+        along_first ? along_start(state, params, cur, predicted, have_prediction, &along) : ALONG_NONE;
+    if (first == ALONG_SHIFTED) {
+        tracked = track(state, params, cur, &along, &along, have_prediction, dt, START_GOES_ON,
+                        &loose, out);
+        *from_along = tracked == TRACK_FOUND;
     }
     if (tracked == TRACK_FAILED) {
         tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
                         START_GOES_ON, &loose, out);
     }
-    if (tracked == TRACK_FAILED && !have_prediction) {
-        if (loose.have) {
-            /* Nothing to confirm the loose fit (a cold start among moving
-             * cars, whose group fits poorly): a start PROBE ahead of it
-             * along the heading that comes back to it agrees. */
+    if (tracked == TRACK_FAILED && !have_prediction && loose.have) {
+        /* Nothing to confirm the loose fit (a cold start among moving
+         * cars, whose group fits poorly) but the along start, when it saw
+         * no shift and the fit moved less than that along the heading;
+         * else a start PROBE ahead of it along the heading that comes back
+         * to it agrees. */
+        if (first == ALONG_STILL && loose.r.pose.x < ALONG_SAME && loose.r.pose.x > -ALONG_SAME) {
+            tracked = output_match(params, EGO_ITCP_OK, &loose.r, false, predicted,
+                                   state->main_direction[state->last], out)
+                          ? TRACK_FOUND
+                          : TRACK_FAILED;
+        } else {
             ego_pose_t probe = loose.r.pose;
             probe.x = fx_add_q16(probe.x, PROBE);
             tracked =
                 track(state, params, cur, &probe, &probe, false, dt, START_TRIAL, &loose, out);
-        } else if (along_start(state, params, cur, predicted, false, &along)) {
-            tracked =
-                track(state, params, cur, &along, &along, false, dt, START_GOES_ON, &loose, out);
         }
     }
     ego_pose_t turned = *predicted;
@@ -1306,11 +1323,12 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
         tracked = track(state, params, cur, &turned, &turned, have_prediction, dt, START_GOES_ON,
                         &loose, out);
     }
-    if (tracked == TRACK_FAILED && have_prediction && !along_first &&
-        along_start(state, params, cur, &turned, true, &along)) {
+    if (tracked == TRACK_FAILED && !along_first &&
+        along_start(state, params, cur, &turned, true, &along) == ALONG_SHIFTED) {
         /* Likewise: the projections' shift with the predicted heading. */
         tracked = track(state, params, cur, &along, &along, have_prediction, dt, START_LAST, &loose,
                         out);
+        *from_along = tracked == TRACK_FOUND;
     }
     if (tracked == TRACK_FAILED && after_search && state->before_dt_us != 0u) {
         /* The search's motion predicts the scans it spanned (a turn begun
@@ -1398,13 +1416,18 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         advance(state, params, cur, time_us, out, false, false, &predicted, have_prediction);
         return;
     }
+    bool from_along = false;
     const track_outcome_t tracked =
         may_track ? track_from_starts(state, params, cur, &predicted, have_prediction, after_search,
-                                      dt, out)
+                                      dt, &from_along, out)
                   : TRACK_FAILED;
     if (tracked == TRACK_FOUND) {
         set_velocities(out);
-        advance(state, params, cur, time_us, out, true, true, &predicted, have_prediction);
+        /* An along start measured the motion along the direction of travel
+         * (surfaces facing it): along a corridor that is a prediction's
+         * worth, and the motion is known. */
+        advance(state, params, cur, time_us, out, true, true, &predicted,
+                have_prediction || from_along);
         return;
     }
     /* What the trackings left in out is no answer. */

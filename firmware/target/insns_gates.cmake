@@ -28,14 +28,20 @@
 # (the search after its corridor, unbounded) 128 -> 143 M (M3; M4F 144.5 M):
 # a corridor tracked with nothing to predict its length leaves the motion
 # unknown (commit 6138221), so that search looks over the first window (4 m)
-# instead of 1.6 m around a standstill it had only assumed.
+# instead of 1.6 m around a standstill it had only assumed. Lowered the
+# same day when a cold start looked along the heading first and an along
+# start's measure counted as a prediction along a corridor (no search left
+# in either stream): busy 20.2 -> 1.25 M, fast 27.6 -> 2.45 M; gated from
+# then on: fast_361_cm_corridor 2.10 M, corridor_361_cm_noise 106 M (M4F).
 set(LMSEGO_INSNS_GATE_MINSIZEREL_adversarial_361_cm 148160000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_aces_0_80 109140000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_busy_181_cm 20680000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_busy_181_cm 1290000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_campus_181_cm 1270000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_circle_361_mm_noise 176130000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_corridor_181_cm 730000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_fast_361_cm 28300000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_corridor_361_cm_noise 109000000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_fast_361_cm 2520000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_fast_361_cm_corridor 2160000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_intel_0_80 110850000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_room_181_mm 1335000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_room_361_cm_faults 2400000)

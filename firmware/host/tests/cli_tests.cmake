@@ -140,12 +140,13 @@ add_test(NAME cli_replay_pairs_tum
             -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/replay_outputs
             -P ${LMSEGO_CLI_DATA}/replay_outputs.cmake)
 set_tests_properties(cli_replay_pairs_tum PROPERTIES LABELS "cli;e2e" TIMEOUT 300)
-# The same where searches span scans within the budget: recovering lines
-# give no pair, a recovered one its own span (until 2026-12-03 they wrote
-# zero motions and mislabelled pairs, which relpose_eval.py scored).
+# The same where searches span scans within the budget (the adversarial
+# stream's unrelated scans): recovering lines give no pair, a recovered one
+# its own span (until 2026-12-03 they wrote zero motions and mislabelled
+# pairs, which relpose_eval.py scored).
 add_test(NAME cli_replay_pairs_spans
     COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:lmsego>
-            -DSTREAM=${LMSEGO_SEQ}/fast_361_cm_corridor.lms -DEXPECT_SPANS=2
+            -DSTREAM=${LMSEGO_RECORDINGS}/adversarial_361_cm.lms -DEXPECT_SPANS=2
             -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/replay_outputs_spans
             -P ${LMSEGO_CLI_DATA}/replay_outputs.cmake)
 set_tests_properties(cli_replay_pairs_spans PROPERTIES LABELS "cli;e2e" TIMEOUT 300)
