@@ -110,14 +110,38 @@ static int64_t turn_between(fx_bam32_t a, fx_bam32_t b)
     return (d < 0) ? -d : d;
 }
 
-static bool close_to(const ego_pose_t *estimate, const ego_pose_t *predicted,
-                     const ego_params_t *params)
+/* Is the estimate within trust of the prediction over `horizon` of the
+ * prediction's own intervals: the trust distance times the horizon (a
+ * speed that changes goes on changing over each), the trust turn. */
+static bool close_over(const ego_pose_t *estimate, const ego_pose_t *predicted,
+                       const ego_params_t *params, uint32_t horizon)
 {
     const int64_t dx = (int64_t)estimate->x - predicted->x;
     const int64_t dy = (int64_t)estimate->y - predicted->y;
-    const int64_t r = params->trust_translation;
+    const int64_t r = (int64_t)params->trust_translation * horizon;
     return dx * dx + dy * dy <= r * r &&
            turn_between(estimate->theta, predicted->theta) <= (int64_t)params->trust_rotation;
+}
+
+static bool close_to(const ego_pose_t *estimate, const ego_pose_t *predicted,
+                     const ego_params_t *params)
+{
+    return close_over(estimate, predicted, params, 1u);
+}
+
+/* How many of the last motion's intervals a prediction over dt_us spans,
+ * rounded, 1 to MAX_HORIZON (a bridge after a search spans several; a
+ * confirmation is over CONFIRM_INTERVAL_US at most anyway). */
+#define MAX_HORIZON 4u
+
+static uint32_t horizon_of(const ego_state_t *state, uint32_t dt_us)
+{
+    const uint64_t own = state->motion_dt_us;
+    if (own == 0u) {
+        return 1u;
+    }
+    const uint64_t k = ((uint64_t)dt_us + own / 2u) / own;
+    return (k < 1u) ? 1u : (k > MAX_HORIZON) ? MAX_HORIZON : (uint32_t)k;
 }
 
 static void set_velocities(ego_output_t *out)
@@ -243,7 +267,8 @@ static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_st
 
 static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
                             const ego_itcp_result_t *r, const ego_pose_t *predicted,
-                            bool have_prediction, uint32_t dt_us, fx_bam32_t main_direction)
+                            bool have_prediction, uint32_t dt_us, uint32_t horizon,
+                            fx_bam32_t main_direction)
 {
     /* Ended by the budget before its iterations did: unconverged, but a
      * pose that moved by millimetres in the last pass. */
@@ -257,7 +282,8 @@ static bool tracking_stands(const ego_params_t *params, ego_itcp_status_t st,
     }
     const bool confirmed = have_prediction && dt_us <= CONFIRM_INTERVAL_US &&
                            st == EGO_ITCP_OK && (r->converged || cut) &&
-                           close_to(&pose, predicted, params) && half_accepted(params, r);
+                           close_over(&pose, predicted, params, horizon) &&
+                           half_accepted(params, r);
     /* Cut by the budget after its steps brought each group's share to the
      * accept share: as good as converged, whatever the prediction said (a
      * turn's onset tracked from the turned start; flagged not converged). */
@@ -745,8 +771,8 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             ego_itcp_result_t r;
             const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
             const fx_bam32_t main_direction = state->main_direction[state->last];
-            if (tracking_stands(params, st, &r, &se->predicted, se->have_prediction, se->dt_us,
-                                main_direction)) {
+            if (tracking_stands(params, st, &r, &se->track_predicted, se->have_prediction,
+                                se->dt_us, horizon_of(state, se->dt_us), main_direction)) {
                 se->best = r;
                 se->best_status = st;
                 se->stage_tracked = true;
@@ -1133,6 +1159,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
                     &params->track);
     const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
+    state->unfinished_predicted = *predicted;
     if (!done) {
         return (kind == START_TRIAL) ? TRACK_FAILED : TRACK_UNFINISHED;
     }
@@ -1153,11 +1180,15 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
         loose->r = r;
     }
     if (!agrees &&
-        !tracking_stands(params, st, &r, predicted, have_prediction, dt_us, main_direction)) {
-        /* The last start, cut before it matched every point: the next
-         * scan's budget finishes it (the search's first stage). */
-        return (kind == START_LAST && ego_track_resume(&state->tracking)) ? TRACK_UNFINISHED
-                                                                           : TRACK_FAILED;
+        !tracking_stands(params, st, &r, predicted, have_prediction, dt_us,
+                         horizon_of(state, dt_us), main_direction)) {
+        /* The last start, cut before it matched every point, or any start
+         * the meter ended on its way to a prediction it fits loosely
+         * (without one, the loose fit has its own confirmations below):
+         * the next scan's budget finishes it (the search's first stage). */
+        const bool goes_on = kind == START_LAST || (kind == START_GOES_ON && have_prediction &&
+                                                    st == EGO_ITCP_OK && half_accepted(params, &r));
+        return (goes_on && ego_track_resume(&state->tracking)) ? TRACK_UNFINISHED : TRACK_FAILED;
     }
     return output_match(params, st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
                                                                                  : TRACK_FAILED;
@@ -1450,6 +1481,7 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
                  !ample(state));
     if (tracked == TRACK_UNFINISHED) {
         state->search.stage = SEARCH_TRACKING;
+        state->search.track_predicted = state->unfinished_predicted;
     }
     state->search.scans = 1u;
     if (search_run(state, params) || answers_now(params, &state->search)) {

@@ -160,6 +160,8 @@ typedef struct {
     uint32_t time_us;        /* of the scan it started from */
     uint32_t dt_us;          /* from the last trusted scan to it */
     ego_pose_t predicted;
+    ego_pose_t track_predicted; /* what the unfinished tracking is judged against:
+                                   its start's prediction (a turned start's turn) */
     bool have_prior;
     bool have_prediction;
     bool known_motion;
@@ -204,6 +206,7 @@ typedef struct {
     uint8_t misses;          /* searches in a row whose result the prediction missed */
     bool bridge;             /* a search that took several scans just ended: the next
                                 interval is long, its prediction the search's motion */
+    ego_pose_t unfinished_predicted; /* se->track_predicted of the next search */
     bool along_predicted;    /* the last motion along the main direction was the
                                 prediction's (a corridor): the next scan looks
                                 for the speed first */

@@ -545,7 +545,7 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
                                                         EGO_COST_SOLVE)) {
         run->converged = settled;
         run->finished = true;
-        run->cut = !full;
+        run->cut = !settled;
         return;
     }
     begin_pass(run);

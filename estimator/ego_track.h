@@ -103,7 +103,7 @@ typedef struct {
     bool converged;
     bool failed;
     bool weak_rotation; /* the last pass's rotation was barely observed */
-    bool cut;           /* ended by the meter before a full pass (ego_track_resume) */
+    bool cut;           /* ended by the meter before it settled (ego_track_resume) */
     ego_track_sums_t group[2];
     /* The unit normals of the last scan's segments (a -> a + 1), Q1.14,
      * each computed at its first use in the run and kept: (0, 0) not yet. */
@@ -130,10 +130,10 @@ void ego_track_start(ego_track_run_t *run, const ego_scan_t *last, const ego_sca
  * a point (at its most) or a solution. */
 bool ego_track_step(ego_track_run_t *run, ego_work_t *work);
 
-/* A tracking run the meter ended before it had matched every point in a
- * pass (only its coarse passes, ego_track_start) has not been judged yet:
- * it goes on with the next pass, within the next meter, and true. False
- * for any other run, which stays as it is. */
+/* A tracking run the meter ended before it settled (in its coarse passes,
+ * ego_track_start, or still stepping) goes on with the next pass, within
+ * the next meter, and true. False for any other run, which stays as it
+ * is. */
 bool ego_track_resume(ego_track_run_t *run);
 
 /* The result of a finished run (EGO_ITCP_ERR_FEW_MATCHES: too few

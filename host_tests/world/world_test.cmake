@@ -14,6 +14,9 @@
 #      table2       the single truth line is the paper's Table 2 pair
 #      usage        lmsworld exits EXPECT_RC and writes no stream
 #      regen        outputs equal SHIPPED_DIR/NAME.{lms,pairs,tum}
+#      budget       `lmsego replay` within the default budget (REPLAY_MODE:
+#                   its --mode) fails at most MAX_FAILED pairs, aperture
+#                   lines' translation excluded (PYTHON, SCRIPT: pairs_error.py)
 cmake_minimum_required(VERSION 3.21)
 foreach(var MODE NAME LMSWORLD WORLD_CHECK LMSEGO OUT_DIR SHIPPED_DIR)
     if(NOT DEFINED ${var})
@@ -148,6 +151,19 @@ elseif(MODE STREQUAL "regen")
         message(FATAL_ERROR "regenerated files differ from the shipped ones:${failed}\n"
             "(regenerated into ${dir})")
     endif()
+elseif(MODE STREQUAL "budget")
+    generate(${dir}/s)
+    set(mode_args "")
+    if(DEFINED REPLAY_MODE)
+        set(mode_args --mode ${REPLAY_MODE})
+    endif()
+    execute_process(COMMAND ${LMSEGO} replay ${mode_args} --budget default ${dir}/s.lms
+        OUTPUT_FILE ${dir}/s.csv RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc STREQUAL "0")
+        message(FATAL_ERROR "lmsego replay failed (${rc}): ${err}")
+    endif()
+    run_checked(${PYTHON} ${SCRIPT} ${dir}/s.pairs ${dir}/s.csv --exclude-flags 2
+        --max-failed ${MAX_FAILED})
 else()
     message(FATAL_ERROR "world_test.cmake: unknown MODE ${MODE}")
 endif()
