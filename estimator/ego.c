@@ -888,6 +888,7 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
         return false;
     }
     out->pose = r->pose;
+    out->cov = r->cov;
     out->iterations = r->iterations;
     out->matches = r->matches;
     out->n_main = r->n_main;
@@ -1233,9 +1234,9 @@ static bool turned_start(ego_state_t *state, uint8_t cur, const ego_pose_t *pred
  * aligns the two scans' projections on it (ego_project_along, surfaces
  * facing it only: not the corridor's walls), within half the predicted
  * distance (ALONG_WINDOW_MIN to _MAX; without a prediction, the first
- * window), is a start for tracking (ALONG_SHIFTED); ALONG_STILL when the
- * best shift is within ALONG_SAME of `from` (tracking starts there
- * already); ALONG_NONE when the prediction moves too little to have a
+ * window), is a start for tracking (ALONG_SHIFTED; *start either way);
+ * ALONG_STILL when the best shift is within ALONG_SAME of `from`
+ * (tracking starts there already); ALONG_NONE when the prediction moves too little to have a
  * direction, no surface faces it, or the meter cannot pay for it. */
 #define ALONG_MOVE_MIN FX_Q16_16_C(0.3)
 #define ALONG_WINDOW_MIN FX_Q16_16_C(0.5)
@@ -1279,16 +1280,33 @@ static along_t along_start(ego_state_t *state, const ego_params_t *params, uint8
     if (!found) {
         return ALONG_NONE;
     }
-    if (shift < ALONG_SAME && shift > -ALONG_SAME) {
-        return ALONG_STILL;
-    }
     fx_q2_30_t s;
     fx_q2_30_t c;
     fx_sincos(direction, &s, &c);
     *start = *from;
     start->x = fx_add_q16(from->x, fx_mul_q16_q30(shift, c));
     start->y = fx_add_q16(from->y, fx_mul_q16_q30(shift, s));
-    return ALONG_SHIFTED;
+    return (shift < ALONG_SAME && shift > -ALONG_SAME) ? ALONG_STILL : ALONG_SHIFTED;
+}
+
+/* Nothing confirms a loose fit without a prediction (a cold start among
+ * moving cars, whose group fits poorly) but the along start: the fit lies
+ * within ALONG_SAME of its shift along the heading, two measures of the
+ * speed that agree. */
+static bool along_confirms(along_t first, const ego_pose_t *along, const loose_fit_t *loose)
+{
+    const fx_q16_16_t apart = fx_sub_q16(loose->r.pose.x, along->x);
+    return first != ALONG_NONE && loose->have && apart < ALONG_SAME && apart > -ALONG_SAME;
+}
+
+static track_outcome_t answer_loose(const ego_state_t *state, const ego_params_t *params,
+                                    const ego_pose_t *predicted, const loose_fit_t *loose,
+                                    ego_output_t *out)
+{
+    return output_match(params, EGO_ITCP_OK, &loose->r, false, predicted,
+                        state->main_direction[state->last], out)
+               ? TRACK_FOUND
+               : TRACK_FAILED;
 }
 
 /* Tracking from its starts, each while the last failed: the prediction,
@@ -1310,7 +1328,7 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
     loose_fit_t loose;
     memset(&loose, 0, sizeof loose);
     track_outcome_t tracked = TRACK_FAILED;
-    ego_pose_t along;
+    ego_pose_t along = *predicted;
     /* The along start comes first where the speed is least known: without
      * a prediction (a cold start at 3 m a scan left the budget no room for
      * it after tracking from no motion, and its search took 7 scans), and
@@ -1325,22 +1343,21 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
                         &loose, out);
         *from_along = tracked == TRACK_FOUND;
     }
+    if (tracked == TRACK_FAILED && !have_prediction && along_confirms(first, &along, &loose)) {
+        tracked = answer_loose(state, params, predicted, &loose, out);
+        *from_along = tracked == TRACK_FOUND;
+    }
     if (tracked == TRACK_FAILED) {
         tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
                         START_GOES_ON, &loose, out);
     }
     if (tracked == TRACK_FAILED && !have_prediction && loose.have) {
-        /* Nothing to confirm the loose fit (a cold start among moving
-         * cars, whose group fits poorly) but the along start, when it saw
-         * no shift and the fit moved less than that along the heading;
-         * else a start PROBE ahead of it along the heading that comes back
-         * to it agrees. */
-        if (first == ALONG_STILL && loose.r.pose.x < ALONG_SAME && loose.r.pose.x > -ALONG_SAME) {
-            tracked = output_match(params, EGO_ITCP_OK, &loose.r, false, predicted,
-                                   state->main_direction[state->last], out)
-                          ? TRACK_FOUND
-                          : TRACK_FAILED;
+        if (along_confirms(first, &along, &loose)) {
+            tracked = answer_loose(state, params, predicted, &loose, out);
+            *from_along = tracked == TRACK_FOUND;
         } else {
+            /* Else a start PROBE ahead of the loose fit along the heading
+             * that comes back to it agrees. */
             ego_pose_t probe = loose.r.pose;
             probe.x = fx_add_q16(probe.x, PROBE);
             tracked =
@@ -1464,6 +1481,7 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
     /* What the trackings left in out is no answer. */
     const uint16_t points = out->points;
     memset(out, 0, sizeof *out);
+    ego_cov_unknown(&out->cov);
     out->points = points;
     if (tracked == TRACK_FAILED && after_search && prior == NULL) {
         /* Another search would span more scans still, and at speed the
@@ -1502,6 +1520,7 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         return EGO_ERR_SCAN;
     }
     memset(out, 0, sizeof *out);
+    ego_cov_unknown(&out->cov);
     ego_work_start(&state->work, budget(state, params, time_us));
     /* The scan's bookkeeping: the main direction, the choice, the output. */
     ego_work_spend(&state->work, EGO_COST_SCAN);

@@ -245,6 +245,10 @@ typedef struct {
     fx_q2_30_t correlation;   /* histogram correlation of the chosen rotation */
     uint32_t work;            /* units (ego_work.h) this scan spent */
     uint32_t work_limit;      /* and its budget (UINT32_MAX: unlimited or more) */
+    ego_cov_t cov;            /* of pose (ego_cov.h); the velocities' is cov / dt^2.
+                                 Unknown (EGO_COV_SATURATED variances) on a line
+                                 without a measured motion: first, predicted,
+                                 recovering */
 } ego_output_t;
 
 /* Starts over: the next scan is a first scan. */

@@ -977,6 +977,7 @@ ego_itcp_status_t ego_itcp_run_result(const ego_itcp_run_t *run, ego_itcp_result
 {
     if (result != NULL) {
         memset(result, 0, sizeof *result);
+        ego_cov_unknown(&result->cov); /* ITCP's statistics give none */
     }
     if (run == NULL || result == NULL) {
         return EGO_ITCP_ERR_ARG;

@@ -49,6 +49,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "ego_cov.h"
 #include "ego_pose.h"
 #include "ego_scan.h"
 #include "ego_fx.h"
@@ -107,6 +108,8 @@ typedef struct {
     fx_q2_30_t group_fit[2];   /* their soft inlier share: mean over the group's points
                                   of max(0, 1 - d^2 / inlier_distance^2), 0..1 */
     fx_q16_16_t residual;    /* RMS match distance at the final pose, m */
+    ego_cov_t cov;           /* of the pose (ego_cov.h; unknown until a registration
+                                finished with enough matches) */
 } ego_itcp_result_t;
 
 typedef enum {

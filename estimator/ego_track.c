@@ -542,13 +542,28 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
     const uint32_t next_stride = pass_stride(run);
     const uint32_t next_points = (run->current->count + next_stride - 1u) / next_stride;
     if (run->tracking && !ego_work_allows(work, next_points * pass_point_units(run) +
-                                                        EGO_COST_SOLVE)) {
+                                                        EGO_COST_SOLVE + EGO_COST_COVARIANCE)) {
         run->converged = settled;
         run->finished = true;
         run->cut = !settled;
         return;
     }
     begin_pass(run);
+}
+
+/* Would close_pass find this pass missed (under a quarter of its points
+ * found) even if every point left matched: then the rest of the pass is
+ * work for nothing (a turn's onset: the prediction's first pass). */
+static bool pass_missed_already(const ego_track_run_t *run)
+{
+    const ego_track_sums_t *g = run->group;
+    const uint32_t count = run->current->count;
+    const uint32_t left =
+        (run->next < count) ? (count - run->next + run->stride - 1u) / run->stride : 0u;
+    const uint32_t seen = g[0].points + g[1].points;
+    const uint32_t found = (run->iteration == 0u) ? (uint32_t)matches(run)
+                                                  : g[0].inliers + g[1].inliers;
+    return 4u * (found + left) < seen + left;
 }
 
 bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
@@ -568,12 +583,19 @@ bool ego_track_step(ego_track_run_t *run, ego_work_t *work)
             const uint32_t units = units_of(EGO_COST_TRACK_POINT, &w);
             run->pass_units += units;
             ego_work_spend(work, units);
+            if (run->tracking && pass_missed_already(run)) {
+                run->next = run->current->count; /* close_pass finds it missed */
+            }
         } else {
-            if (!ego_work_allows(work, EGO_COST_SOLVE)) {
+            /* Any closing step may end the run: room for its covariance. */
+            if (!ego_work_allows(work, EGO_COST_SOLVE + EGO_COST_COVARIANCE)) {
                 return false;
             }
             ego_work_spend(work, EGO_COST_SOLVE);
             close_pass(run, work);
+            if (run->finished && !run->failed) {
+                ego_work_spend(work, EGO_COST_COVARIANCE);
+            }
         }
     }
     return true;
@@ -593,6 +615,7 @@ bool ego_track_resume(ego_track_run_t *run)
 ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result)
 {
     memset(result, 0, sizeof *result);
+    ego_cov_unknown(&result->cov);
     result->pose = run->pose;
     if (!run->finished) {
         return EGO_ITCP_ERR_UNFINISHED;
@@ -620,6 +643,14 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
     }
     if (n > 0) {
         result->residual = (fx_q16_16_t)fx_sqrt_u64((g[0].sum_sq + g[1].sum_sq) / (uint64_t)n);
+    }
+    ego_cov_group_t groups[2];
+    for (unsigned k = 0u; k < 2u; k++) {
+        groups[k].n = g[k].n;
+        memcpy(groups[k].a, g[k].a, sizeof groups[k].a);
+    }
+    if (!run->failed) { /* charged with the run's last closing step */
+        ego_cov_estimate(groups, g[0].sum_sq + g[1].sum_sq, run->params->weighted, &result->cov);
     }
     result->weak_rotation = run->weak_rotation;
     result->aperture = g[0].n > 0 &&

@@ -1,0 +1,330 @@
+/* ego_cov.c - see ego_cov.h. */
+#include "ego_cov.h"
+
+#include <stddef.h>
+
+#include "ego_fx_math.h"
+
+/* A 3x3 matrix of integer mantissas m with one power of two: m * 2^e. */
+typedef struct {
+    int64_t m[9];
+    int32_t e;
+} scaled3_t;
+
+/* Mantissas of products: each at most 2^PRODUCT_BITS, so a row times a
+ * column (three products) stays below 2^62. */
+#define PRODUCT_BITS 30u
+/* Of an inverse's input: its cofactors stay below 2^41, its determinant
+ * below 3 2^61. */
+#define INVERSE_BITS 20u
+/* An axis's unit is at most 2^14 times or below its SI one (each
+ * entry of A below 2^56 in Q32, ego_track.c). */
+#define MAX_AXIS_SHIFT 14
+
+static uint64_t magnitude(int64_t v)
+{
+    return (v < 0) ? (uint64_t)0 - (uint64_t)v : (uint64_t)v;
+}
+
+/* Significant bits of v (0 for 0). */
+static unsigned bits_u64(uint64_t v)
+{
+    const uint32_t high = (uint32_t)(v >> 32);
+    if (high != 0u) {
+        return 32u + fx_bits_u32(high);
+    }
+    return (v == 0u) ? 0u : fx_bits_u32((uint32_t)v);
+}
+
+/* v / 2^s rounded (s >= 0; 0 beyond 62 places). */
+static int64_t shr_round(int64_t v, unsigned s)
+{
+    if (s == 0u) {
+        return v;
+    }
+    return (s > 62u) ? 0 : fx_shr_round_s64(v, s);
+}
+
+/* Rescales the mantissas so that the largest has exactly `bits`
+ * significant bits (none changes when all are 0). */
+static void fit(scaled3_t *a, unsigned bits)
+{
+    uint64_t most = 0u;
+    for (unsigned k = 0u; k < 9u; k++) {
+        const uint64_t v = magnitude(a->m[k]);
+        most = (v > most) ? v : most;
+    }
+    const unsigned have = bits_u64(most);
+    if (have == 0u) {
+        return;
+    }
+    if (have > bits) {
+        const unsigned s = have - bits;
+        for (unsigned k = 0u; k < 9u; k++) {
+            a->m[k] = shr_round(a->m[k], s);
+        }
+        a->e += (int32_t)s;
+    } else if (have < bits) {
+        const unsigned s = bits - have;
+        for (unsigned k = 0u; k < 9u; k++) {
+            a->m[k] *= (int64_t)1 << s; /* |m| < 2^bits afterwards: no overflow */
+        }
+        a->e -= (int32_t)s;
+    }
+}
+
+/* a b, both rescaled to PRODUCT_BITS first. */
+static scaled3_t product(scaled3_t a, scaled3_t b)
+{
+    fit(&a, PRODUCT_BITS);
+    fit(&b, PRODUCT_BITS);
+    scaled3_t c;
+    for (unsigned i = 0u; i < 3u; i++) {
+        for (unsigned j = 0u; j < 3u; j++) {
+            c.m[3u * i + j] = a.m[3u * i] * b.m[j] + a.m[3u * i + 1u] * b.m[3u + j] +
+                              a.m[3u * i + 2u] * b.m[6u + j];
+        }
+    }
+    c.e = a.e + b.e;
+    return c;
+}
+
+static scaled3_t transpose(const scaled3_t *a)
+{
+    scaled3_t t;
+    for (unsigned i = 0u; i < 3u; i++) {
+        for (unsigned j = 0u; j < 3u; j++) {
+            t.m[3u * i + j] = a->m[3u * j + i];
+        }
+    }
+    t.e = a->e;
+    return t;
+}
+
+/* v * 2^s (s < 0: rounded; s > 0: saturated). */
+static int64_t times_pow2(int64_t v, int32_t s)
+{
+    if (s <= 0) {
+        return shr_round(v, (unsigned)-s);
+    }
+    if (bits_u64(magnitude(v)) + (unsigned)s > 62u) {
+        return (v < 0) ? -INT64_MAX : INT64_MAX;
+    }
+    return v * ((int64_t)1 << s);
+}
+
+/* a + b, both rescaled to 60 bits and to the larger power of two. */
+static scaled3_t sum(scaled3_t a, scaled3_t b)
+{
+    fit(&a, 60u);
+    fit(&b, 60u);
+    scaled3_t *low = (a.e < b.e) ? &a : &b;
+    const scaled3_t *high = (a.e < b.e) ? &b : &a;
+    const unsigned s = (unsigned)(high->e - low->e);
+    for (unsigned k = 0u; k < 9u; k++) {
+        low->m[k] = shr_round(low->m[k], s) + high->m[k];
+    }
+    low->e = high->e;
+    return *low;
+}
+
+/* a D, D = diag(d0, d1, d2) * 2^e (column j of a times dj). */
+static scaled3_t scale_columns(scaled3_t a, int64_t d0, int64_t d1, int64_t d2, int32_t e)
+{
+    scaled3_t d = {{d0, d1, d2, 0, 0, 0, 0, 0, 0}, e};
+    fit(&a, PRODUCT_BITS);
+    fit(&d, PRODUCT_BITS);
+    for (unsigned i = 0u; i < 3u; i++) {
+        for (unsigned j = 0u; j < 3u; j++) {
+            a.m[3u * i + j] *= d.m[j];
+        }
+    }
+    a.e += d.e;
+    return a;
+}
+
+/* The inverse of a symmetric positive definite a by its cofactors; false
+ * when its determinant is not positive. */
+static bool inverse(scaled3_t a, scaled3_t *inv)
+{
+    fit(&a, INVERSE_BITS);
+    const int64_t *m = a.m;
+    int64_t c[9];
+    c[0] = m[4] * m[8] - m[5] * m[7];
+    c[1] = m[2] * m[7] - m[1] * m[8];
+    c[2] = m[1] * m[5] - m[2] * m[4];
+    c[4] = m[0] * m[8] - m[2] * m[6];
+    c[5] = m[2] * m[3] - m[0] * m[5];
+    c[8] = m[0] * m[4] - m[1] * m[3];
+    c[3] = c[1];
+    c[6] = c[2];
+    c[7] = c[5];
+    const int64_t det = m[0] * c[0] + m[1] * c[3] + m[2] * c[6];
+    if (det <= 0) {
+        return false;
+    }
+    /* cofactor / det in mantissas of about 20 bits: det cut to 42. */
+    const unsigned have = bits_u64((uint64_t)det);
+    const unsigned s = (have > 42u) ? have - 42u : 0u;
+    const int64_t d = shr_round(det, s);
+    if (d <= 0) {
+        return false; /* not reached: 42 significant bits are left */
+    }
+    for (unsigned k = 0u; k < 9u; k++) {
+        inv->m[k] = (c[k] * ((int64_t)1 << 21)) / d; /* |c| < 2^41 */
+    }
+    inv->e = -21 - (int32_t)s - a.e;
+    return true;
+}
+
+/* m * 2^(e + 30) rounded to Q2.30, saturated. */
+static fx_q2_30_t to_q30(int64_t m, int32_t e)
+{
+    const int32_t up = e + 30;
+    if (up >= 0) {
+        if (up > 62 || bits_u64(magnitude(m)) + (unsigned)up > 62u) {
+            return (m < 0) ? INT32_MIN : INT32_MAX;
+        }
+        return fx_sat_s32(m * ((int64_t)1 << up));
+    }
+    return fx_sat_s32(shr_round(m, (unsigned)-up));
+}
+
+void ego_cov_unknown(ego_cov_t *cov)
+{
+    cov->xx = EGO_COV_SATURATED;
+    cov->xy = 0;
+    cov->xt = 0;
+    cov->yy = EGO_COV_SATURATED;
+    cov->yt = 0;
+    cov->tt = EGO_COV_SATURATED;
+}
+
+/* Symmetric 3x3 from xx, xy, xt, yy, yt, tt. */
+static void set_symmetric(scaled3_t *a, const int64_t s[6], int32_t e)
+{
+    a->m[0] = s[0];
+    a->m[1] = s[1];
+    a->m[2] = s[2];
+    a->m[3] = s[1];
+    a->m[4] = s[3];
+    a->m[5] = s[4];
+    a->m[6] = s[2];
+    a->m[7] = s[4];
+    a->m[8] = s[5];
+    a->e = e;
+}
+
+void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weighted,
+                      ego_cov_t *cov)
+{
+    ego_cov_unknown(cov);
+    /* The groups' sums in Q32 of their units (the normals' Q28 and the
+     * arms' Q30 up to the lever arms' Q32 m^2). */
+    int64_t g[2][6];
+    int64_t n[2];
+    for (unsigned k = 0u; k < 2u; k++) {
+        static const unsigned up[6] = {4u, 4u, 2u, 4u, 2u, 0u};
+        for (unsigned i = 0u; i < 6u; i++) {
+            g[k][i] = group[k].a[i] * ((int64_t)1 << up[i]); /* below 2^56 (ego_track.c) */
+        }
+        n[k] = group[k].n;
+    }
+    if (!weighted) { /* one pool of matches */
+        for (unsigned i = 0u; i < 6u; i++) {
+            g[0][i] += g[1][i];
+            g[1][i] = 0;
+        }
+        n[0] += n[1];
+        n[1] = 0;
+    }
+    const int64_t total = n[0] + n[1];
+    if (total <= 3) {
+        return;
+    }
+    /* A = sum A_g / n_g and S = sum A_g / n_g^2 (Q32). */
+    int64_t a[6] = {0, 0, 0, 0, 0, 0};
+    int64_t s[6] = {0, 0, 0, 0, 0, 0};
+    for (unsigned k = 0u; k < 2u; k++) {
+        if (n[k] <= 0) {
+            continue;
+        }
+        for (unsigned i = 0u; i < 6u; i++) {
+            const int64_t mean = g[k][i] / n[k];
+            a[i] += mean;
+            s[i] += mean / n[k];
+        }
+    }
+    /* The registration's damping (ego_track.c, solve): a thousandth of the
+     * translation's and the rotation's own information. */
+    const int64_t damp[3] = {(a[0] + a[3]) / 1000, (a[0] + a[3]) / 1000, a[5] / 1000};
+    a[0] += damp[0];
+    a[3] += damp[1];
+    a[5] += damp[2];
+    /* Each axis in its own power-of-two unit, 2^k_i, so that the diagonal
+     * of A is near 1 (a corridor's length has a thousandth of the
+     * information of its width, a heading a lever arm's square more):
+     * every entry then keeps its bits through the inverse. Entry ij is
+     * scaled by 2^-(k_i + k_j), the covariance back by the same. */
+    static const unsigned diag[3] = {0u, 3u, 5u};
+    int32_t k[3];
+    for (unsigned i = 0u; i < 3u; i++) {
+        const unsigned b = bits_u64((uint64_t)((a[diag[i]] > 0) ? a[diag[i]] : 1));
+        k[i] = ((int32_t)b - 33) / 2;
+        k[i] = (k[i] > MAX_AXIS_SHIFT) ? MAX_AXIS_SHIFT : (k[i] < -MAX_AXIS_SHIFT) ? -MAX_AXIS_SHIFT : k[i];
+    }
+    static const unsigned row[6] = {0u, 0u, 0u, 1u, 1u, 2u};
+    static const unsigned col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
+    for (unsigned i = 0u; i < 6u; i++) {
+        const int32_t by = -(k[row[i]] + k[col[i]]);
+        a[i] = times_pow2(a[i], by);
+        s[i] = times_pow2(s[i], by);
+    }
+    scaled3_t am;
+    scaled3_t sm;
+    set_symmetric(&am, a, -32);
+    set_symmetric(&sm, s, -32);
+    scaled3_t inv;
+    if (!inverse(am, &inv)) {
+        return;
+    }
+    /* The residuals' part: s^2 A^-1 S A^-1, s^2 = sum d^2 / (n - 3) (Q32). */
+    scaled3_t c = product(product(inv, sm), inv);
+    const int64_t variance = (int64_t)(sum_sq / (uint64_t)(total - 3));
+    fit(&c, PRODUCT_BITS);
+    const unsigned vb = bits_u64((uint64_t)variance);
+    const unsigned vs = (vb > PRODUCT_BITS) ? vb - PRODUCT_BITS : 0u;
+    const int64_t v = shr_round(variance, vs);
+    for (unsigned i = 0u; i < 9u; i++) {
+        c.m[i] *= v;
+    }
+    c.e += (int32_t)vs - 32;
+    /* The start's part: where the equations barely constrain the pose the
+     * damping keeps it at the start (the prediction), whose error is not
+     * the residuals'. Each pass leaves R = A^-1 E of it (E the damping);
+     * after two passes, with 1 m and 1 rad for the start's error, R^2 P
+     * R^2^T: about 1 along a corridor's length, under 10^-10 where
+     * surfaces constrain the pose. In the axes' units E_i 2^-2k_i and P_i
+     * 2^2k_i. */
+    const int32_t least = (k[0] < k[1]) ? ((k[0] < k[2]) ? k[0] : k[2]) : ((k[1] < k[2]) ? k[1] : k[2]);
+    const scaled3_t r = scale_columns(inv, times_pow2(damp[0], -2 * k[0]),
+                                      times_pow2(damp[1], -2 * k[1]),
+                                      times_pow2(damp[2], -2 * k[2]), -32);
+    const scaled3_t r2 = product(r, r);
+    const scaled3_t start =
+        product(scale_columns(r2, (int64_t)1 << (2 * (k[0] - least)), (int64_t)1 << (2 * (k[1] - least)),
+                              (int64_t)1 << (2 * (k[2] - least)), 2 * least),
+                transpose(&r2));
+    c = sum(c, start);
+    /* Back to SI units: entry ij times 2^-(k_i + k_j). */
+    const int32_t e = c.e;
+    cov->xx = to_q30(c.m[0], e - 2 * k[0]);
+    cov->xy = to_q30(c.m[1], e - k[0] - k[1]);
+    cov->xt = to_q30(c.m[2], e - k[0] - k[2]);
+    cov->yy = to_q30(c.m[4], e - 2 * k[1]);
+    cov->yt = to_q30(c.m[5], e - k[1] - k[2]);
+    cov->tt = to_q30(c.m[8], e - 2 * k[2]);
+    cov->xx = (cov->xx < 0) ? 0 : cov->xx;
+    cov->yy = (cov->yy < 0) ? 0 : cov->yy;
+    cov->tt = (cov->tt < 0) ? 0 : cov->tt;
+}

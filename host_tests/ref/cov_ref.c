@@ -1,0 +1,115 @@
+/* cov_ref.c - see cov_ref.h. The model of ego_cov.h:
+ *   cov = s^2 A^-1 S A^-1 + R^2 P R^2^T, A = sum A_g / n_g + E,
+ *   S = sum A_g / n_g^2, s^2 = sum d^2 / (n - 3), R = A^-1 E,
+ *   E = diag(e_t, e_t, e_r) the registration's damping, P = I (1 m, 1 rad). */
+#include "cov_ref.h"
+
+#include <string.h>
+
+static void sym(const double s[6], double m[3][3])
+{
+    m[0][0] = s[0];
+    m[0][1] = m[1][0] = s[1];
+    m[0][2] = m[2][0] = s[2];
+    m[1][1] = s[3];
+    m[1][2] = m[2][1] = s[4];
+    m[2][2] = s[5];
+}
+
+static void mul(double a[3][3], double b[3][3], double c[3][3])
+{
+    double t[3][3];
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            t[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+        }
+    }
+    memcpy(c, t, sizeof t);
+}
+
+static bool invert(double a[3][3], double inv[3][3])
+{
+    const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
+    const double c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
+    const double c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
+    const double det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
+    if (!(det > 0.0)) {
+        return false;
+    }
+    inv[0][0] = c00 / det;
+    inv[1][0] = c01 / det;
+    inv[2][0] = c02 / det;
+    inv[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
+    inv[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
+    inv[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
+    inv[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
+    inv[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
+    inv[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
+    return true;
+}
+
+bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weighted,
+                      double cov[3][3])
+{
+    cov_ref_group_t g[2];
+    memcpy(g, group, sizeof g);
+    if (!weighted) {
+        for (int i = 0; i < 6; i++) {
+            g[0].a[i] += g[1].a[i];
+            g[1].a[i] = 0.0;
+        }
+        g[0].n += g[1].n;
+        g[1].n = 0.0;
+    }
+    const double total = g[0].n + g[1].n;
+    if (total <= 3.0) {
+        return false;
+    }
+    double a[6] = {0};
+    double s[6] = {0};
+    for (int k = 0; k < 2; k++) {
+        if (g[k].n <= 0.0) {
+            continue;
+        }
+        for (int i = 0; i < 6; i++) {
+            a[i] += g[k].a[i] / g[k].n;
+            s[i] += g[k].a[i] / (g[k].n * g[k].n);
+        }
+    }
+    const double et = (a[0] + a[3]) / 1000.0;
+    const double er = a[5] / 1000.0;
+    a[0] += et;
+    a[3] += et;
+    a[5] += er;
+    double am[3][3];
+    double sm[3][3];
+    double inv[3][3];
+    sym(a, am);
+    sym(s, sm);
+    if (!invert(am, inv)) {
+        return false;
+    }
+    double c[3][3];
+    mul(inv, sm, c);
+    mul(c, inv, c);
+    const double variance = sum_sq / (total - 3.0);
+    double r[3][3];
+    const double e[3] = {et, et, er};
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            r[i][j] = inv[i][j] * e[j];
+        }
+    }
+    double r2[3][3];
+    mul(r, r, r2);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            double start = 0.0;
+            for (int k = 0; k < 3; k++) {
+                start += r2[i][k] * r2[j][k];
+            }
+            cov[i][j] = variance * c[i][j] + start;
+        }
+    }
+    return true;
+}

@@ -1,0 +1,195 @@
+/* test_cov.c - the covariance of a registration (estimator/ego_cov.h)
+ * against its double oracle (host_tests/ref/cov_ref.c) on random normal
+ * equations, and its limits: a corridor's length, too few matches, a
+ * singular system, saturation. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cov_ref.h"
+#include "ego_cov.h"
+#include "lms_test_util.h"
+#include "unity.h"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+/* Both forms of the same matches: the fixed-point sums as ego_track
+ * accumulates them (normals Q14, arms Q16 m, residuals Q16 m) and the
+ * double sums of the same quantised values. */
+typedef struct {
+    ego_cov_group_t fx[2];
+    cov_ref_group_t ref[2];
+    uint64_t sum_sq;     /* Q32 m^2 */
+    double sum_sq_m2;
+} matches_t;
+
+static void add_match(matches_t *m, unsigned g, double normal_rad, double arm_m, double d_m)
+{
+    const int64_t nx = (int64_t)lround(cos(normal_rad) * 16384.0);
+    const int64_t ny = (int64_t)lround(sin(normal_rad) * 16384.0);
+    const int64_t arm = (int64_t)lround(arm_m * 65536.0);
+    const int64_t d = (int64_t)lround(d_m * 65536.0);
+    const int64_t j[3] = {nx, ny, arm};
+    const double jd[3] = {(double)nx / 16384.0, (double)ny / 16384.0, (double)arm / 65536.0};
+    static const unsigned pairs[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+    for (unsigned k = 0u; k < 6u; k++) {
+        m->fx[g].a[k] += j[pairs[k][0]] * j[pairs[k][1]];
+        m->ref[g].a[k] += jd[pairs[k][0]] * jd[pairs[k][1]];
+    }
+    m->fx[g].n++;
+    m->ref[g].n += 1.0;
+    m->sum_sq += (uint64_t)(d * d);
+    m->sum_sq_m2 += ((double)d / 65536.0) * ((double)d / 65536.0);
+}
+
+static double worst; /* largest error seen, relative to its scale */
+
+static double q30(fx_q2_30_t v)
+{
+    return (double)v / 1073741824.0;
+}
+
+static void fixed_matrix(const ego_cov_t *c, double m[3][3])
+{
+    m[0][0] = q30(c->xx);
+    m[0][1] = m[1][0] = q30(c->xy);
+    m[0][2] = m[2][0] = q30(c->xt);
+    m[1][1] = q30(c->yy);
+    m[1][2] = m[2][1] = q30(c->yt);
+    m[2][2] = q30(c->tt);
+}
+
+/* Every entry within a thousandth of the scale of its row and column
+ * (sqrt(cov_ii cov_jj)) plus two LSB of Q2.30. */
+static void assert_close(double want[3][3], const ego_cov_t *got, const char *what)
+{
+    double m[3][3];
+    fixed_matrix(got, m);
+    for (unsigned i = 0u; i < 3u; i++) {
+        for (unsigned j = 0u; j < 3u; j++) {
+            const double scale = sqrt(fabs(want[i][i] * want[j][j]));
+            const double tol = 1e-3 * scale + 2.0 / 1073741824.0;
+            char msg[160];
+            (void)snprintf(msg, sizeof msg, "%s: cov[%u][%u] fixed %.6g, double %.6g", what, i, j,
+                           m[i][j], want[i][j]);
+            worst = fmax(worst, fmax(fabs(m[i][j] - want[i][j]) - 2.0 / 1073741824.0, 0.0) / (scale + 1e-30));
+            TEST_ASSERT_TRUE_MESSAGE(fabs(m[i][j] - want[i][j]) <= tol, msg);
+        }
+    }
+}
+
+static void test_cov_matches_its_oracle_on_random_equations(void)
+{
+    uint32_t seed = 16u;
+    for (unsigned trial = 0u; trial < 400u; trial++) {
+        matches_t m;
+        memset(&m, 0, sizeof m);
+        const unsigned n0 = tu_rand_range(&seed, 4u, 300u);
+        const unsigned n1 = tu_rand_range(&seed, 0u, 200u);
+        const double sigma = 0.001 * (double)tu_rand_range(&seed, 1u, 50u); /* 1-50 mm */
+        const double reach = (double)tu_rand_range(&seed, 2u, 60u);           /* arms, m */
+        const double main_rad = (double)tu_rand(&seed) / 4294967296.0 * 3.14159;
+        for (unsigned i = 0u; i < n0 + n1; i++) {
+            const unsigned g = (i < n0) ? 0u : 1u;
+            const double spread = (g == 0u) ? 0.1 : 3.14159;
+            const double normal = main_rad + ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * spread;
+            const double arm = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 2.0 * reach;
+            const double d = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 3.4641 * sigma;
+            add_match(&m, g, normal, arm, d);
+        }
+        const bool weighted = (trial % 4u) != 3u;
+        ego_cov_t got;
+        ego_cov_estimate(m.fx, m.sum_sq, weighted, &got);
+        double want[3][3];
+        TEST_ASSERT_TRUE(cov_ref_estimate(m.ref, m.sum_sq_m2, weighted, want));
+        if (want[0][0] >= 2.0 || want[1][1] >= 2.0 || want[2][2] >= 2.0) {
+            continue; /* saturated: its own test */
+        }
+        char what[64];
+        (void)snprintf(what, sizeof what, "trial %u (n %u + %u, %s)", trial, n0, n1,
+                       weighted ? "weighted" : "plain");
+        assert_close(want, &got, what);
+    }
+    char seen[80];
+    (void)snprintf(seen, sizeof seen, "largest error %.2e of its scale", worst);
+    TEST_MESSAGE(seen);
+}
+
+/* A corridor: every normal across it. Its length is the start's (1 m^2),
+ * the width and the heading are measured. */
+static void test_cov_corridor_length_is_not_measured(void)
+{
+    matches_t m;
+    memset(&m, 0, sizeof m);
+    uint32_t seed = 3u;
+    for (unsigned i = 0u; i < 300u; i++) {
+        const double side = (i % 2u == 0u) ? 1.5707963 : -1.5707963;
+        const double arm = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 40.0;
+        add_match(&m, 0u, side, arm, ((i % 3u) - 1.0) * 0.004);
+    }
+    ego_cov_t got;
+    ego_cov_estimate(m.fx, m.sum_sq, true, &got);
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "xx %.3g yy %.3g tt %.3g", q30(got.xx), q30(got.yy),
+                   q30(got.tt));
+    TEST_ASSERT_TRUE_MESSAGE(q30(got.xx) > 0.5, msg);   /* metres of doubt along */
+    TEST_ASSERT_TRUE_MESSAGE(q30(got.yy) < 1e-6, msg);  /* a millimetre across */
+    TEST_ASSERT_TRUE_MESSAGE(q30(got.tt) < 1e-6, msg);  /* a milliradian of heading */
+    double want[3][3];
+    TEST_ASSERT_TRUE(cov_ref_estimate(m.ref, m.sum_sq_m2, true, want));
+    assert_close(want, &got, "corridor");
+}
+
+static void test_cov_unknown_without_enough_matches(void)
+{
+    matches_t m;
+    memset(&m, 0, sizeof m);
+    add_match(&m, 0u, 0.0, 1.0, 0.01);
+    add_match(&m, 0u, 1.0, 2.0, 0.01);
+    add_match(&m, 1u, 2.0, 3.0, 0.01);
+    ego_cov_t got;
+    ego_cov_estimate(m.fx, m.sum_sq, true, &got);
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.xx);
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.yy);
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.tt);
+    TEST_ASSERT_EQUAL_INT32(0, got.xy);
+    /* No information at all (every sum 0): singular, unknown. */
+    memset(&m, 0, sizeof m);
+    m.fx[0].n = 50;
+    ego_cov_estimate(m.fx, 0u, true, &got);
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.tt);
+    ego_cov_unknown(&got);
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.xx);
+    TEST_ASSERT_EQUAL_INT32(0, got.yt);
+}
+
+/* Residuals of metres (a registration that fits nothing): variances past
+ * 2 m^2 saturate, never wrap. */
+static void test_cov_saturates(void)
+{
+    matches_t m;
+    memset(&m, 0, sizeof m);
+    for (unsigned i = 0u; i < 6u; i++) {
+        add_match(&m, 0u, 0.3 * i, 0.5, 20.0);
+    }
+    ego_cov_t got;
+    ego_cov_estimate(m.fx, m.sum_sq, true, &got);
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.xx);
+    TEST_ASSERT_TRUE(got.yy > 0);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_cov_matches_its_oracle_on_random_equations);
+    RUN_TEST(test_cov_corridor_length_is_not_measured);
+    RUN_TEST(test_cov_unknown_without_enough_matches);
+    RUN_TEST(test_cov_saturates);
+    return UNITY_END();
+}
