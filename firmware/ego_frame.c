@@ -18,9 +18,12 @@ enum {
     OFF_FLAGS = 35,
     OFF_ITERATIONS = 37,
     OFF_MATCHES = 38,
-    OFF_CRC = 40
+    OFF_COV = 40, /* xx, xy, xt, yy, yt, tt: 4 bytes each */
+    OFF_CRC = 64,
+    OFF_V1_CRC = 40
 };
 _Static_assert(OFF_CRC == 3 + EGO_FRAME_PAYLOAD, "payload ends at the CRC");
+_Static_assert(OFF_V1_CRC == 3 + EGO_FRAME_V1_PAYLOAD, "version 1's payload ends at its CRC");
 _Static_assert(EGO_FRAME_SIZE <= UINT8_MAX, "fill is a uint8_t");
 
 #define CRC_POLY 0x1021u
@@ -94,6 +97,10 @@ size_t ego_frame_encode(uint8_t *out, size_t cap, uint32_t scan, uint32_t time_u
     put_u16(&out[OFF_FLAGS], o->flags);
     out[OFF_ITERATIONS] = o->iterations;
     put_u16(&out[OFF_MATCHES], o->matches);
+    const fx_q2_30_t cov[6] = {o->cov.xx, o->cov.xy, o->cov.xt, o->cov.yy, o->cov.yt, o->cov.tt};
+    for (unsigned k = 0u; k < 6u; k++) {
+        put_u32(&out[OFF_COV + 4u * k], (uint32_t)cov[k]);
+    }
     /* Everything after the start byte: a corrupted start is caught by the
      * hunt, the rest by the CRC. */
     put_u16(&out[OFF_CRC], ego_frame_crc16(&out[1], OFF_CRC - 1u));
@@ -128,6 +135,13 @@ static void drop_start(ego_frame_decoder_t *d)
     memmove(d->buf, &d->buf[cut], d->fill);
 }
 
+/* The bytes of a frame of this version (a version not known: the
+ * current one's, for the checks to reject it by). */
+static size_t frame_size(uint8_t version)
+{
+    return (version == EGO_FRAME_V1_VERSION) ? EGO_FRAME_V1_SIZE : EGO_FRAME_SIZE;
+}
+
 /* Checks the buffered candidate after a byte was added: true when it is a
  * complete frame with a good CRC; rejected candidates are dropped on the
  * way. */
@@ -138,12 +152,15 @@ static bool check_candidate(ego_frame_decoder_t *d)
         if (d->fill == 0u) {
             return false;
         }
-        if ((d->fill > OFF_VERSION && d->buf[OFF_VERSION] != EGO_FRAME_VERSION) ||
-            (d->fill > OFF_LENGTH && d->buf[OFF_LENGTH] != EGO_FRAME_PAYLOAD)) {
+        const uint8_t version = (d->fill > OFF_VERSION) ? d->buf[OFF_VERSION] : EGO_FRAME_VERSION;
+        const bool known = version == EGO_FRAME_VERSION || version == EGO_FRAME_V1_VERSION;
+        const size_t size = frame_size(version);
+        const uint8_t payload = (uint8_t)(size - 5u);
+        if (!known || (d->fill > OFF_LENGTH && d->buf[OFF_LENGTH] != payload)) {
             d->stats.length_errors++;
-        } else if (d->fill < EGO_FRAME_SIZE) {
+        } else if (d->fill < size) {
             return false;
-        } else if (ego_frame_crc16(&d->buf[1], OFF_CRC - 1u) == get_u16(&d->buf[OFF_CRC])) {
+        } else if (ego_frame_crc16(&d->buf[1], size - 3u) == get_u16(&d->buf[size - 2u])) {
             return true;
         } else {
             d->stats.crc_errors++;
@@ -167,6 +184,20 @@ static void decode(const uint8_t *b, ego_frame_t *f)
     f->out.flags = (uint16_t)get_u16(&b[OFF_FLAGS]);
     f->out.iterations = b[OFF_ITERATIONS];
     f->out.matches = (uint16_t)get_u16(&b[OFF_MATCHES]);
+    if (b[OFF_VERSION] == EGO_FRAME_V1_VERSION) {
+        ego_cov_unknown(&f->out.cov);
+        return;
+    }
+    fx_q2_30_t cov[6];
+    for (unsigned k = 0u; k < 6u; k++) {
+        cov[k] = get_s32(&b[OFF_COV + 4u * k]);
+    }
+    f->out.cov.xx = cov[0];
+    f->out.cov.xy = cov[1];
+    f->out.cov.xt = cov[2];
+    f->out.cov.yy = cov[3];
+    f->out.cov.yt = cov[4];
+    f->out.cov.tt = cov[5];
 }
 
 ego_frame_event_t ego_frame_feed(ego_frame_decoder_t *d, const uint8_t *bytes, size_t len,
@@ -186,6 +217,7 @@ ego_frame_event_t ego_frame_feed(ego_frame_decoder_t *d, const uint8_t *bytes, s
         if (check_candidate(d)) {
             decode(d->buf, frame);
             d->stats.frames++;
+            d->stats.bytes_framed += d->fill;
             d->fill = 0u;
             *consumed = i + 1u;
             return EGO_FRAME_READY;

@@ -53,6 +53,56 @@ size_t ego_format_fixed(char *out, int64_t value, unsigned decimals)
     return len;
 }
 
+size_t ego_format_sci(char *out, int32_t q30)
+{
+    size_t len = 0u;
+    if (q30 < 0) {
+        out[len++] = '-';
+    }
+    if (q30 == INT32_MAX || q30 == INT32_MIN) {
+        out[len++] = 'i';
+        out[len++] = 'n';
+        out[len++] = 'f';
+        out[len] = '\0';
+        return len;
+    }
+    if (q30 == 0) {
+        out[len++] = '0';
+        out[len] = '\0';
+        return len;
+    }
+    const uint64_t one = (uint64_t)1 << 30;
+    uint64_t m = (q30 < 0) ? (uint64_t)0 - (uint64_t)(int64_t)q30 : (uint64_t)q30;
+    int32_t exponent = 0;
+    while (m < one) { /* at most ten times: m >= 1 */
+        m *= 10u;
+        exponent--;
+    }
+    /* m / 2^30 in [1, 2]: four digits, the quotient rounded half to even. */
+    const uint64_t num = m * 1000u;
+    uint64_t digits = num >> 30;
+    const uint64_t rest = num & (one - 1u);
+    if (rest > one / 2u || (rest == one / 2u && (digits & 1u) != 0u)) {
+        digits++;
+    }
+    if (digits >= 10000u) {
+        digits /= 10u;
+        exponent++;
+    }
+    out[len++] = (char)('0' + (int)(digits / 1000u));
+    out[len++] = '.';
+    out[len++] = (char)('0' + (int)(digits / 100u % 10u));
+    out[len++] = (char)('0' + (int)(digits / 10u % 10u));
+    out[len++] = (char)('0' + (int)(digits % 10u));
+    out[len++] = 'e';
+    out[len++] = (exponent < 0) ? '-' : '+';
+    const uint32_t e = (uint32_t)((exponent < 0) ? -exponent : exponent);
+    out[len++] = (char)('0' + (int)(e / 10u));
+    out[len++] = (char)('0' + (int)(e % 10u));
+    out[len] = '\0';
+    return len;
+}
+
 /* Q16.16 -> micro-units, rounded. */
 static int64_t micro_from_q16(int64_t v)
 {
@@ -105,7 +155,14 @@ size_t ego_format_line(char *out, size_t cap, uint32_t scan, uint32_t time_us,
     put_number(&l, micro_from_q16(o->omega), 6u, true);
     put_number(&l, o->flags, 0u, true);
     put_number(&l, o->iterations, 0u, true);
-    put_number(&l, o->matches, 0u, false);
+    put_number(&l, o->matches, 0u, true);
+    const int32_t cov[6] = {o->cov.xx, o->cov.xy, o->cov.xt, o->cov.yy, o->cov.yt, o->cov.tt};
+    for (unsigned k = 0u; k < 6u; k++) {
+        char tmp[16];
+        (void)ego_format_sci(tmp, cov[k]);
+        put_text(&l, tmp);
+        put_text(&l, (k < 5u) ? "," : "\n");
+    }
     return l.len;
 }
 

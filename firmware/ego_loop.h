@@ -5,7 +5,8 @@
  * decodes each B0 scan, runs the estimator and writes one CSV line per
  * scan after the first:
  *
- *   scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches
+ *   scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches,
+ *   cov_xx,cov_xy,cov_xt,cov_yy,cov_yt,cov_tt
  *
  * (the header once, first; ego_format_line makes the line). Or, with
  * config.frames, one binary frame per scan after the first instead
@@ -134,9 +135,16 @@ const ego_loop_stats_t *ego_loop_stats(const ego_loop_t *loop);
  * caller; returns the length written (at most 24 + NUL). */
 size_t ego_format_fixed(char *out, int64_t value, unsigned decimals);
 
+/* A Q2.30 value in scientific notation with four significant digits, as
+ * printf's "%.3e" prints q / 2^30 ("-1.234e-08"; "0" for 0; "inf" and
+ * "-inf" for the saturated ends, EGO_COV_SATURATED: not measured). out
+ * holds at least 16 bytes; returns the length. */
+size_t ego_format_sci(char *out, int32_t q30);
+
 /* The CSV header line ego_loop writes before the first line. */
 #define EGO_LOOP_CSV_HEADER \
-    "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches\n"
+    "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches," \
+    "cov_xx,cov_xy,cov_xt,cov_yy,cov_yt,cov_tt\n"
 
 /* The CSV line of one scan, newline included, NUL-terminated: scan index,
  * time_us as seconds, pose x / y (Q16.16 m) and theta (binary angle, as

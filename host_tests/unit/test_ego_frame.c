@@ -50,7 +50,19 @@ static ego_frame_t make_frame(uint32_t scan, uint32_t time_us, int32_t x, int32_
     f.out.flags = flags;
     f.out.iterations = iterations;
     f.out.matches = matches;
+    ego_cov_unknown(&f.out.cov);
     return f;
+}
+
+static void set_cov(ego_frame_t *f, int32_t xx, int32_t xy, int32_t xt, int32_t yy, int32_t yt,
+                    int32_t tt)
+{
+    f->out.cov.xx = xx;
+    f->out.cov.xy = xy;
+    f->out.cov.xt = xt;
+    f->out.cov.yy = yy;
+    f->out.cov.yt = yt;
+    f->out.cov.tt = tt;
 }
 
 static int32_t rand_s32(uint32_t *seed)
@@ -62,9 +74,18 @@ static int32_t rand_s32(uint32_t *seed)
 
 static ego_frame_t random_frame(uint32_t *seed)
 {
-    return make_frame(tu_rand(seed), tu_rand(seed), rand_s32(seed), rand_s32(seed), tu_rand(seed),
-                      rand_s32(seed), rand_s32(seed), rand_s32(seed),
-                      (uint16_t)tu_rand(seed), tu_rand_byte(seed), (uint16_t)tu_rand(seed));
+    ego_frame_t f = make_frame(tu_rand(seed), tu_rand(seed), rand_s32(seed), rand_s32(seed),
+                               tu_rand(seed), rand_s32(seed), rand_s32(seed), rand_s32(seed),
+                               (uint16_t)tu_rand(seed), tu_rand_byte(seed), (uint16_t)tu_rand(seed));
+    /* Covariances of every size: a random value shifted down 0..31 bits. */
+    int32_t c[6];
+    for (unsigned k = 0u; k < 6u; k++) {
+        const int32_t r = rand_s32(seed);
+        const uint32_t down = tu_rand(seed) % 32u;
+        c[k] = (r < 0) ? -(int32_t)((uint32_t)(-(r + 1)) >> down) - 1 : (int32_t)((uint32_t)r >> down);
+    }
+    set_cov(&f, c[0], c[1], c[2], c[3], c[4], c[5]);
+    return f;
 }
 
 static size_t encode(uint8_t *out, const ego_frame_t *f)
@@ -86,6 +107,12 @@ static void assert_same_frame(const ego_frame_t *e, const ego_frame_t *a, const 
     TEST_ASSERT_EQUAL_HEX16_MESSAGE(e->out.flags, a->out.flags, msg);
     TEST_ASSERT_EQUAL_UINT8_MESSAGE(e->out.iterations, a->out.iterations, msg);
     TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->out.matches, a->out.matches, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(e->out.cov.xx, a->out.cov.xx, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(e->out.cov.xy, a->out.cov.xy, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(e->out.cov.xt, a->out.cov.xt, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(e->out.cov.yy, a->out.cov.yy, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(e->out.cov.yt, a->out.cov.yt, msg);
+    TEST_ASSERT_EQUAL_INT32_MESSAGE(e->out.cov.tt, a->out.cov.tt, msg);
     TEST_ASSERT_EQUAL_UINT32_MESSAGE(0u, a->out.dt_us, msg);
     TEST_ASSERT_EQUAL_UINT8_MESSAGE(0u, a->out.candidates, msg);
     TEST_ASSERT_EQUAL_UINT16_MESSAGE(0u, a->out.points, msg);
@@ -107,7 +134,7 @@ typedef struct {
 static void check_invariant(const ego_frame_decoder_t *d)
 {
     const ego_frame_stats_t *st = ego_frame_stats(d);
-    TEST_ASSERT_EQUAL_UINT32(st->bytes_in, st->frames * EGO_FRAME_SIZE + st->bytes_skipped +
+    TEST_ASSERT_EQUAL_UINT32(st->bytes_in, st->bytes_framed + st->bytes_skipped +
                                                (uint32_t)ego_frame_pending(d));
 }
 
@@ -177,9 +204,10 @@ static void test_ego_frame_crc_check_values(void)
     TEST_ASSERT_EQUAL_HEX16(0x3FBDu, ego_frame_crc16(all, sizeof all));
 }
 
-/* The layout table of ego_frame.h, worked out by hand (CRC: see the top). */
+/* The layout table of ego_frame.h, worked out by hand (CRC: see the top;
+ * computed apart from the code under test). */
 static const uint8_t example_bytes[EGO_FRAME_SIZE] = {
-    0xE5, 0x01, 0x25,             /* start, version, length 37 */
+    0xE5, 0x02, 0x3D,             /* start, version 2, length 61 */
     0x04, 0x03, 0x02, 0x01,       /* scan 0x01020304 */
     0x2B, 0x68, 0x00, 0x00,       /* time 26667 us */
     0x00, 0x80, 0xFE, 0xFF,       /* dx -1.5 m = -98304 */
@@ -191,13 +219,29 @@ static const uint8_t example_bytes[EGO_FRAME_SIZE] = {
     0x22, 0x00,                   /* flags predicted | aperture */
     0xC8,                         /* iterations 200 */
     0x34, 0x12,                   /* matches 0x1234 */
-    0x43, 0xB7                    /* CRC 0xB743 of bytes 1..39 */
+    0x00, 0x04, 0x00, 0x00,       /* cov_xx 1024: 9.537e-07 m^2 */
+    0x00, 0xFE, 0xFF, 0xFF,       /* cov_xy -512 */
+    0xFF, 0xFF, 0xFF, 0x7F,       /* cov_xt saturated */
+    0x00, 0x00, 0x00, 0x40,       /* cov_yy 1 m^2 */
+    0x00, 0x00, 0x00, 0x80,       /* cov_yt INT32_MIN */
+    0x01, 0x00, 0x00, 0x00,       /* cov_tt 1 LSB */
+    0xFC, 0xD5                    /* CRC 0xD5FC of bytes 1..63 */
+};
+
+/* Version 1, as the frames were before the covariance: still decoded. */
+static const uint8_t example_v1_bytes[EGO_FRAME_V1_SIZE] = {
+    0xE5, 0x01, 0x25, 0x04, 0x03, 0x02, 0x01, 0x2B, 0x68, 0x00, 0x00, 0x00, 0x80, 0xFE,
+    0xFF, 0x00, 0x40, 0x00, 0x00, 0x00, 0x00, 0x00, 0x40, 0x00, 0x00, 0x00, 0x80, 0x01,
+    0x00, 0x00, 0x00, 0xFF, 0xFF, 0xFF, 0x7F, 0x22, 0x00, 0xC8, 0x34, 0x12,
+    0x43, 0xB7 /* CRC 0xB743 of bytes 1..39 */
 };
 
 static ego_frame_t example_frame(void)
 {
-    return make_frame(0x01020304u, 26667u, -98304, 16384, 0x40000000u, INT32_MIN, 1, INT32_MAX,
-                      0x22u, 200u, 0x1234u);
+    ego_frame_t f = make_frame(0x01020304u, 26667u, -98304, 16384, 0x40000000u, INT32_MIN, 1,
+                               INT32_MAX, 0x22u, 200u, 0x1234u);
+    set_cov(&f, 1024, -512, INT32_MAX, 0x40000000, INT32_MIN, 1);
+    return f;
 }
 
 static void test_ego_frame_layout_byte_by_byte(void)
@@ -205,7 +249,7 @@ static void test_ego_frame_layout_byte_by_byte(void)
     const ego_frame_t f = example_frame();
     uint8_t out[EGO_FRAME_SIZE + 4u];
     memset(out, 0xAA, sizeof out);
-    TEST_ASSERT_EQUAL_UINT(42u, EGO_FRAME_SIZE);
+    TEST_ASSERT_EQUAL_UINT(66u, EGO_FRAME_SIZE);
     TEST_ASSERT_EQUAL_UINT(EGO_FRAME_SIZE,
                            ego_frame_encode(out, sizeof out, f.scan, f.time_us, &f.out));
     TEST_ASSERT_EQUAL_HEX8_ARRAY(example_bytes, out, EGO_FRAME_SIZE);
@@ -216,6 +260,41 @@ static void test_ego_frame_layout_byte_by_byte(void)
     decode_stream(example_bytes, sizeof example_bytes, FEED_WHOLE, 1u, &d);
     TEST_ASSERT_EQUAL_UINT(1u, d.count);
     assert_same_frame(&f, &d.frames[0], "example");
+}
+
+/* A version 1 frame decodes to the same fields, its covariance unknown;
+ * both versions in one stream, in any chunking. */
+static void test_ego_frame_version_1_still_decodes(void)
+{
+    ego_frame_t f = example_frame();
+    ego_cov_unknown(&f.out.cov);
+    static uint8_t s[2u * EGO_FRAME_SIZE + 3u * EGO_FRAME_V1_SIZE];
+    size_t len = 0u;
+    memcpy(&s[len], example_v1_bytes, EGO_FRAME_V1_SIZE);
+    len += EGO_FRAME_V1_SIZE;
+    memcpy(&s[len], example_bytes, EGO_FRAME_SIZE);
+    len += EGO_FRAME_SIZE;
+    memcpy(&s[len], example_v1_bytes, EGO_FRAME_V1_SIZE);
+    len += EGO_FRAME_V1_SIZE;
+    for (int mode = FEED_WHOLE; mode <= FEED_RANDOM; mode++) {
+        decoded_t d;
+        decode_stream(s, len, (feed_mode_t)mode, 7u, &d);
+        TEST_ASSERT_EQUAL_UINT(3u, d.count);
+        TEST_ASSERT_EQUAL_UINT32(0u, d.stats.bytes_skipped);
+        TEST_ASSERT_EQUAL_UINT32(len, d.stats.bytes_framed);
+        assert_same_frame(&f, &d.frames[0], "version 1");
+        const ego_frame_t g = example_frame();
+        assert_same_frame(&g, &d.frames[1], "version 2");
+        assert_same_frame(&f, &d.frames[2], "version 1 again");
+    }
+    /* A version 1 length byte under version 2 (and the reverse) is wrong. */
+    uint8_t bad[EGO_FRAME_SIZE];
+    memcpy(bad, example_bytes, sizeof bad);
+    bad[2] = EGO_FRAME_V1_PAYLOAD;
+    decoded_t d;
+    decode_stream(bad, sizeof bad, FEED_WHOLE, 1u, &d);
+    TEST_ASSERT_EQUAL_UINT(0u, d.count);
+    TEST_ASSERT_TRUE(d.stats.length_errors >= 1u);
 }
 
 static void test_ego_frame_encode_refuses_small_buffers(void)
@@ -425,7 +504,8 @@ static void test_ego_format_line_example(void)
     const ego_frame_t f = example_frame();
     char line[EGO_LOOP_LINE_MAX];
     const char *expect = "16909060,0.026667,-1.500000,0.250000,1.570796,-32768.000000,0.000015,"
-                         "32767.999985,34,200,4660\n";
+                         "32767.999985,34,200,4660,9.537e-07,-4.768e-07,inf,1.000e+00,-inf,"
+                         "9.313e-10\n";
     TEST_ASSERT_EQUAL_UINT(strlen(expect),
                            ego_format_line(line, sizeof line, f.scan, f.time_us, &f.out));
     TEST_ASSERT_EQUAL_STRING(expect, line);
@@ -433,7 +513,7 @@ static void test_ego_format_line_example(void)
     const ego_frame_t g = make_frame(1u, 0u, -1, -32, 0x80000000u, 0, 0, -98304, 0u, 0u, 0u);
     (void)ego_format_line(line, sizeof line, g.scan, g.time_us, &g.out);
     TEST_ASSERT_EQUAL_STRING("1,0.000000,-0.000015,-0.000488,-3.141593,0.000000,0.000000,"
-                             "-1.500000,0,0,0\n",
+                             "-1.500000,0,0,0,inf,0,0,inf,0,inf\n",
                              line);
     /* A small buffer truncates, NUL-terminated; cap 0 writes nothing. */
     TEST_ASSERT_EQUAL_UINT(9u, ego_format_line(line, 10u, f.scan, f.time_us, &f.out));
@@ -475,10 +555,23 @@ static void ref_line(char *out, size_t cap, const ego_frame_t *f)
     for (unsigned i = 2u; i < 5u; i++) {
         ref_number(v[i + 1u], sizeof v[i + 1u], ref_micro((int64_t)q16[i] * 1000000, 65536));
     }
-    (void)snprintf(out, cap, "%" PRIu32 ",%" PRIu32 ".%06" PRIu32 ",%s,%s,%s,%s,%s,%s,%u,%u,%u\n",
+    char c[6][24];
+    const int32_t cov[6] = {f->out.cov.xx, f->out.cov.xy, f->out.cov.xt,
+                            f->out.cov.yy, f->out.cov.yt, f->out.cov.tt};
+    for (unsigned k = 0u; k < 6u; k++) {
+        if (cov[k] == INT32_MAX || cov[k] == INT32_MIN) {
+            (void)snprintf(c[k], sizeof c[k], "%sinf", (cov[k] < 0) ? "-" : "");
+        } else if (cov[k] == 0) {
+            (void)snprintf(c[k], sizeof c[k], "0");
+        } else {
+            (void)snprintf(c[k], sizeof c[k], "%.3e", (double)cov[k] / 1073741824.0);
+        }
+    }
+    (void)snprintf(out, cap,
+                   "%" PRIu32 ",%" PRIu32 ".%06" PRIu32 ",%s,%s,%s,%s,%s,%s,%u,%u,%u,%s,%s,%s,%s,%s,%s\n",
                    f->scan, f->time_us / 1000000u, f->time_us % 1000000u, v[0], v[1], v[2], v[3],
                    v[4], v[5], (unsigned)f->out.flags, (unsigned)f->out.iterations,
-                   (unsigned)f->out.matches);
+                   (unsigned)f->out.matches, c[0], c[1], c[2], c[3], c[4], c[5]);
 }
 
 static void test_ego_format_line_matches_printf_oracle(void)
@@ -612,6 +705,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_ego_frame_crc_check_values);
     RUN_TEST(test_ego_frame_layout_byte_by_byte);
+    RUN_TEST(test_ego_frame_version_1_still_decodes);
     RUN_TEST(test_ego_frame_encode_refuses_small_buffers);
     RUN_TEST(test_ego_frame_round_trip_extremes_and_random);
     RUN_TEST(test_ego_frame_every_single_bit_flip_is_rejected);

@@ -111,7 +111,7 @@ set(LMSEGO_SEQ ${LMSEGO_CLI_DATA}/../../../host_tests/data/sequences)
 lmsego_cli_test(replay_help ARGS replay --help
     OPTIONS -DSTDOUT_REGEX=^usage:\ lmsego\ replay -DEXPECT_STDERR_EMPTY=ON)
 lmsego_cli_test(replay_header ARGS replay --budget none ${LMSEGO_SEQ}/table2_361_cm.lms
-    OPTIONS "-DSTDOUT_REGEX=^scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches\n1,0\\.026667,-2\\.4"
+    OPTIONS "-DSTDOUT_REGEX=^scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches,cov_xx,cov_xy,cov_xt,cov_yy,cov_yt,cov_tt\n1,0\\.026667,-2\\.4"
             -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=scans=2\ lines=1)
 # Within the default budget the Table 2 pair's search outlasts its two-scan
 # stream: the line claims no motion (flag 64), and stderr says why.

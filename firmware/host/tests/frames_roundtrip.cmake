@@ -2,7 +2,7 @@
 # stream.
 #   1. `replay STREAM` gives the reference CSV;
 #   2. `replay --frames F STREAM` prints the same CSV and writes F, one
-#      42-byte frame per CSV line;
+#      66-byte frame per CSV line;
 #   3. `frames F` and `frames - < F` print the reference byte for byte, with
 #      a clean decoder summary;
 #   4. a damaged stream built from F (garbage, a cut frame, a complete frame
@@ -23,7 +23,7 @@ foreach(var EXE STREAM OUT_DIR)
 endforeach()
 file(MAKE_DIRECTORY ${OUT_DIR})
 set(bin ${OUT_DIR}/frames.bin)
-set(frame_size 42)
+set(frame_size 66)
 
 # run(OUT ERR [INPUT file] COMMAND ...): runs, fails unless the exit code is 0.
 function(run out_var err_var)
@@ -105,7 +105,7 @@ math(EXPR expect_size "3 * ${n} * ${frame_size} + ${skipped}")
 if(NOT rc EQUAL 0 OR NOT size EQUAL expect_size)
     message(FATAL_ERROR "building ${damaged} failed (${rc}, ${size} bytes)")
 endif()
-string(LENGTH "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches\n"
+string(LENGTH "scan,time_s,dx_m,dy_m,dtheta_rad,vx_mps,vy_mps,omega_radps,flags,iterations,matches,cov_xx,cov_xy,cov_xt,cov_yy,cov_yt,cov_tt\n"
        header_len)
 string(SUBSTRING "${csv}" ${header_len} -1 lines)
 run(out err COMMAND ${EXE} frames ${damaged})
