@@ -907,6 +907,11 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
             turn_between(r->pose.theta, predicted->theta) <= (int64_t)params->trust_rotation) {
             keep_prediction_along(&out->pose, predicted, main_direction);
         }
+        /* Either way the length is not measured: its variance says so. */
+        fx_q2_30_t s;
+        fx_q2_30_t c;
+        fx_sincos(main_direction, &s, &c);
+        ego_cov_unmeasured_along(&out->cov, c, s);
     }
     out->flags |= r->converged ? 0u : EGO_FLAG_NOT_CONVERGED;
     if (r->weak_rotation) {
@@ -916,6 +921,7 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
         if (have_prediction) {
             out->pose.theta = predicted->theta;
         }
+        ego_cov_unmeasured_rotation(&out->cov);
     }
     return true;
 }

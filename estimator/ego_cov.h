@@ -7,8 +7,9 @@
  * n_g, where A_g = sum J J^T and b_g = sum J d over the group's n_g
  * matches, J = (nx, ny, arm) (the match's unit normal and the lever arm of
  * the point about the scanner). Each residual d has the variance s^2 =
- * sum d^2 / (n - 3) (n = n_0 + n_1, both groups pooled: one range noise),
- * so cov(b) = s^2 sum_g A_g / n_g^2 and
+ * 2 sum d^2 / (n - 3) (n = n_0 + n_1, both groups pooled: one range noise;
+ * the 2 for the errors the residuals do not show, ego_cov.c), so cov(b) =
+ * s^2 sum_g A_g / n_g^2 and
  *
  *     cov(x) = s^2 A^-1 (sum_g A_g / n_g^2) A^-1,
  *
@@ -68,5 +69,14 @@ void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weig
 
 /* The covariance that says nothing was measured. */
 void ego_cov_unknown(ego_cov_t *cov);
+
+/* A motion whose part along the unit direction (c, s) (Q2.30) is not
+ * the measurement's (a corridor's length, taken from the prediction): 1
+ * m^2 more variance along it, saturated. */
+void ego_cov_unmeasured_along(ego_cov_t *cov, fx_q2_30_t c, fx_q2_30_t s);
+
+/* A rotation that is not the measurement's (taken from the prediction):
+ * 1 rad^2 more variance, saturated. */
+void ego_cov_unmeasured_rotation(ego_cov_t *cov);
 
 #endif /* EGO_COV_H */

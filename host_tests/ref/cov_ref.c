@@ -1,6 +1,6 @@
 /* cov_ref.c - see cov_ref.h. The model of ego_cov.h:
  *   cov = s^2 A^-1 S A^-1 + R^2 P R^2^T, A = sum A_g / n_g + E,
- *   S = sum A_g / n_g^2, s^2 = sum d^2 / (n - 3), R = A^-1 E,
+ *   S = sum A_g / n_g^2, s^2 = 2 sum d^2 / (n - 3), R = A^-1 E,
  *   E = diag(e_t, e_t, e_r) the registration's damping, P = I (1 m, 1 rad). */
 #include "cov_ref.h"
 
@@ -92,7 +92,7 @@ bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weight
     double c[3][3];
     mul(inv, sm, c);
     mul(c, inv, c);
-    const double variance = sum_sq / (total - 3.0);
+    const double variance = 2.0 * sum_sq / (total - 3.0); /* ego_cov.c's MODEL_FACTOR */
     double r[3][3];
     const double e[3] = {et, et, er};
     for (int i = 0; i < 3; i++) {

@@ -184,6 +184,29 @@ static void test_cov_saturates(void)
     TEST_ASSERT_TRUE(got.yy > 0);
 }
 
+/* What the output does where a corridor's length or a heading came from
+ * the prediction: 1 m^2 more along the direction, 1 rad^2 more of turn. */
+static void test_cov_unmeasured_parts(void)
+{
+    ego_cov_t c = {1000, 0, 5, 2000, 0, 30};
+    const fx_q2_30_t cs = (fx_q2_30_t)lround(cos(0.5235988) * 1073741824.0);
+    const fx_q2_30_t sn = (fx_q2_30_t)lround(sin(0.5235988) * 1073741824.0);
+    ego_cov_unmeasured_along(&c, cs, sn);
+    const double one = 1073741824.0;
+    TEST_ASSERT_INT32_WITHIN(1, 1000 + (int32_t)lround((double)cs * cs / one), c.xx);
+    TEST_ASSERT_INT32_WITHIN(1, (int32_t)lround((double)cs * sn / one), c.xy);
+    TEST_ASSERT_INT32_WITHIN(1, 2000 + (int32_t)lround((double)sn * sn / one), c.yy);
+    TEST_ASSERT_EQUAL_INT32(5, c.xt);
+    TEST_ASSERT_EQUAL_INT32(30, c.tt);
+    ego_cov_unmeasured_rotation(&c);
+    TEST_ASSERT_EQUAL_INT32(30 + 1073741824, c.tt);
+    ego_cov_unmeasured_rotation(&c); /* past 2 rad^2: saturated */
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, c.tt);
+    ego_cov_unknown(&c);
+    ego_cov_unmeasured_along(&c, 1073741824, 0);
+    TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, c.xx);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -191,5 +214,6 @@ int main(void)
     RUN_TEST(test_cov_corridor_length_is_not_measured);
     RUN_TEST(test_cov_unknown_without_enough_matches);
     RUN_TEST(test_cov_saturates);
+    RUN_TEST(test_cov_unmeasured_parts);
     return UNITY_END();
 }

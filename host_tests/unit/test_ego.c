@@ -541,9 +541,17 @@ static void test_ego_budget_leaves_a_corridor_faster(void)
         TEST_ASSERT_EQUAL_HEX16_MESSAGE(0u, out.flags & (EGO_FLAG_RECOVERING | EGO_FLAG_PREDICTED),
                                         msg);
         TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.y)) < 0.05, msg);
+        /* The covariance says which: along the corridor metres of doubt,
+         * out of it millimetres, and across it either way. */
+        const double var_x = (double)out.cov.xx / 1073741824.0;
+        const double var_y = (double)out.cov.yy / 1073741824.0;
+        TEST_ASSERT_TRUE_MESSAGE(var_y < 1e-4, msg);
         if ((out.flags & EGO_FLAG_APERTURE) == 0u) {
             TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - moved) < 0.05, msg);
+            TEST_ASSERT_TRUE_MESSAGE(var_x < 1e-4, msg);
             exits += (x > 12.0) ? 1u : 0u;
+        } else {
+            TEST_ASSERT_TRUE_MESSAGE(var_x > 0.5, msg);
         }
     }
     /* The rooms' scans beyond the exit were measured, not predicted. */
