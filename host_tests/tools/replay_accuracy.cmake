@@ -1,6 +1,7 @@
 # cmake -P script: lmsego replay STREAM (with EXTRA options) -> CSV, then
-# pairs_error.py against TRUTH with the bounds in BOUNDS (a ;-list of its
-# --max-* options). Fails when the replay fails or a bound is exceeded.
+# SCRIPT (pairs_error.py, or nees.py with SCRIPT_ARGS empty) against TRUTH
+# with the bounds in BOUNDS (a ;-list of its --max-* options). Fails when
+# the replay fails or a bound is exceeded.
 foreach(var LMSEGO PYTHON SCRIPT STREAM TRUTH OUT BOUNDS)
     if(NOT DEFINED ${var})
         message(FATAL_ERROR "replay_accuracy.cmake: ${var} is not set")
@@ -12,7 +13,10 @@ if(NOT rc EQUAL 0)
     message(FATAL_ERROR "lmsego replay failed (${rc}): ${err}")
 endif()
 message("${err}")
-execute_process(COMMAND ${PYTHON} ${SCRIPT} ${TRUTH} ${OUT} --exclude-flags 2 ${BOUNDS}
+if(NOT DEFINED SCRIPT_ARGS)
+    set(SCRIPT_ARGS --exclude-flags 2) # pairs_error.py: aperture lines' length is not measured
+endif()
+execute_process(COMMAND ${PYTHON} ${SCRIPT} ${TRUTH} ${OUT} ${SCRIPT_ARGS} ${BOUNDS}
     RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "accuracy bounds exceeded")

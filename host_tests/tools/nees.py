@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""nees.py TRUTH CSV: is the covariance of `lmsego replay` consistent?
+
+TRUTH is a pairs file of lmsworld (`i j dx dy dtheta` per line, the pose of
+scan j in the frame of scan i); CSV the output of `lmsego replay` (its
+cov_xx .. cov_tt columns, docs/estimator.md "The covariance"). For every
+line that claims a measured motion over one scan interval (flags without
+first, predicted, recovering or recovered) whose covariance is known, the
+normalised estimation error squared e^T C^-1 e (3 degrees of freedom: its
+mean is 3 for a consistent estimate, and 1 % of the pairs lie beyond 11.34,
+the 99 % ellipse) is summed apart for the lines flagged aperture (a
+corridor's length is the prediction's) and the others. Prints one line of
+each; --max-mean and --max-outside fail (exit 1) above them (not-aperture
+lines). Pure Python: no numpy."""
+import argparse
+import csv
+import math
+import sys
+
+CHI2_3_99 = 11.345
+SKIP = 1 | 32 | 64 | 128  # first, predicted, recovering, recovered
+
+
+def read_truth(path):
+    truth = {}
+    with open(path) as f:
+        for line in f:
+            if line.startswith('#') or not line.strip():
+                continue
+            i, j, dx, dy, dt = line.split()[:5]
+            truth[(int(i), int(j))] = (float(dx), float(dy), float(dt))
+    return truth
+
+
+def nees(c, e):
+    """e^T C^-1 e for the symmetric 3x3 C given as xx, xy, xt, yy, yt, tt."""
+    a = ((c[0], c[1], c[2]), (c[1], c[3], c[4]), (c[2], c[4], c[5]))
+    cof = [[a[(i + 1) % 3][(j + 1) % 3] * a[(i + 2) % 3][(j + 2) % 3] -
+            a[(i + 1) % 3][(j + 2) % 3] * a[(i + 2) % 3][(j + 1) % 3] for j in range(3)]
+           for i in range(3)]
+    det = sum(a[0][j] * cof[0][j] for j in range(3))
+    if det <= 0.0:
+        return None
+    return sum(e[i] * cof[j][i] * e[j] for i in range(3) for j in range(3)) / det
+
+
+def summary(name, values):
+    if not values:
+        return '%s: none' % name, 0.0, 0.0
+    values = sorted(values)
+    mean = sum(values) / len(values)
+    outside = 100.0 * sum(1 for v in values if v > CHI2_3_99) / len(values)
+    return ('%s: pairs %d  NEES mean %.2f median %.2f  beyond the 99 %% ellipse %.1f %%' %
+            (name, len(values), mean, values[len(values) // 2], outside), mean, outside)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('truth')
+    ap.add_argument('csv')
+    ap.add_argument('--max-mean', type=float)
+    ap.add_argument('--max-outside', type=float, help='percent')
+    a = ap.parse_args()
+    truth = read_truth(a.truth)
+    plain, aperture = [], []
+    with open(a.csv) as f:
+        for r in csv.DictReader(f):
+            flags = int(r['flags'])
+            scan = int(r['scan'])
+            t = truth.get((scan - 1, scan))
+            cells = [r['cov_' + k] for k in ('xx', 'xy', 'xt', 'yy', 'yt', 'tt')]
+            if flags & SKIP or t is None or any('inf' in x for x in cells):
+                continue
+            e = (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
+                 (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
+            n = nees([float(x) for x in cells], e)
+            if n is not None:
+                (aperture if flags & 2 else plain).append(n)
+    line, mean, outside = summary('measured', plain)
+    print(line)
+    print(summary('aperture', aperture)[0])
+    failed = ((a.max_mean is not None and mean > a.max_mean) or
+              (a.max_outside is not None and outside > a.max_outside))
+    if failed:
+        print('BOUND EXCEEDED', file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
