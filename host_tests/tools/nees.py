@@ -11,7 +11,9 @@ mean is 3 for a consistent estimate, and 1 % of the pairs lie beyond 11.34,
 the 99 % ellipse) is summed apart for the lines flagged aperture (a
 corridor's length is the prediction's) and the others. Prints one line of
 each; --max-mean and --max-outside fail (exit 1) above them (not-aperture
-lines). Pure Python: no numpy."""
+lines). --ref-sigma M,DEG adds the truth's own error (a reference that is
+itself an estimate, the real logs' corrected poses: that standard deviation
+in x, y and heading) to every covariance. Pure Python: no numpy."""
 import argparse
 import csv
 import math
@@ -60,7 +62,12 @@ def main():
     ap.add_argument('csv')
     ap.add_argument('--max-mean', type=float)
     ap.add_argument('--max-outside', type=float, help='percent')
+    ap.add_argument('--ref-sigma', help='M,DEG: the truth\'s own standard deviation')
     a = ap.parse_args()
+    ref = [0.0, 0.0]
+    if a.ref_sigma:
+        m, deg = (float(v) for v in a.ref_sigma.split(','))
+        ref = [m * m, math.radians(deg) ** 2]
     truth = read_truth(a.truth)
     plain, aperture = [], []
     with open(a.csv) as f:
@@ -73,7 +80,11 @@ def main():
                 continue
             e = (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
                  (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
-            n = nees([float(x) for x in cells], e)
+            c = [float(x) for x in cells]
+            c[0] += ref[0]
+            c[3] += ref[0]
+            c[5] += ref[1]
+            n = nees(c, e)
             if n is not None:
                 (aperture if flags & 2 else plain).append(n)
     line, mean, outside = summary('measured', plain)
