@@ -78,8 +78,6 @@ static bool motion_known(const ego_state_t *state, uint32_t dt_us)
            (uint64_t)dt_us <= (uint64_t)MAX_PREDICTION_RATIO * state->motion_dt_us;
 }
 
-/* The last motion scaled to a scan interval of dt_us (no motion when it
- * says nothing about it). */
 /* A motion over dt_us scaled to an interval of to_us (dt_us > 0). */
 static ego_pose_t scale_motion(const ego_pose_t *motion, uint32_t dt_us, uint32_t to_us)
 {
@@ -93,6 +91,8 @@ static ego_pose_t scale_motion(const ego_pose_t *motion, uint32_t dt_us, uint32_
     return p;
 }
 
+/* The last motion scaled to a scan interval of dt_us (no motion when it
+ * says nothing about it). */
 static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
 {
     if (!motion_known(state, dt_us)) {
@@ -102,7 +102,6 @@ static ego_pose_t predict(const ego_state_t *state, uint32_t dt_us)
     return scale_motion(&state->motion, state->motion_dt_us, dt_us);
 }
 
-/* Is the estimate within the prediction's trust distance of it. */
 /* |a - b| of two headings, binary angle (at most half a turn). */
 static int64_t turn_between(fx_bam32_t a, fx_bam32_t b)
 {
@@ -123,6 +122,7 @@ static bool close_over(const ego_pose_t *estimate, const ego_pose_t *predicted,
            turn_between(estimate->theta, predicted->theta) <= (int64_t)params->trust_rotation;
 }
 
+/* Is the estimate within the prediction's trust of it (one interval). */
 static bool close_to(const ego_pose_t *estimate, const ego_pose_t *predicted,
                      const ego_params_t *params)
 {
@@ -1305,14 +1305,21 @@ static bool along_confirms(along_t first, const ego_pose_t *along, const loose_f
     return first != ALONG_NONE && loose->have && apart < ALONG_SAME && apart > -ALONG_SAME;
 }
 
-static track_outcome_t answer_loose(const ego_state_t *state, const ego_params_t *params,
-                                    const ego_pose_t *predicted, const loose_fit_t *loose,
-                                    ego_output_t *out)
+/* The loose fit answers when the along start confirms it (its motion along
+ * the heading then measured: *from_along). */
+static track_outcome_t answer_if_along_confirms(const ego_state_t *state,
+                                                const ego_params_t *params,
+                                                const ego_pose_t *predicted, along_t first,
+                                                const ego_pose_t *along, const loose_fit_t *loose,
+                                                bool *from_along, ego_output_t *out)
 {
-    return output_match(params, EGO_ITCP_OK, &loose->r, false, predicted,
-                        state->main_direction[state->last], out)
-               ? TRACK_FOUND
-               : TRACK_FAILED;
+    if (!along_confirms(first, along, loose) ||
+        !output_match(params, EGO_ITCP_OK, &loose->r, false, predicted,
+                      state->main_direction[state->last], out)) {
+        return TRACK_FAILED;
+    }
+    *from_along = true;
+    return TRACK_FOUND;
 }
 
 /* Tracking from its starts, each while the last failed: the prediction,
@@ -1349,26 +1356,24 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
                         &loose, out);
         *from_along = tracked == TRACK_FOUND;
     }
-    if (tracked == TRACK_FAILED && !have_prediction && along_confirms(first, &along, &loose)) {
-        tracked = answer_loose(state, params, predicted, &loose, out);
-        *from_along = tracked == TRACK_FOUND;
+    if (tracked == TRACK_FAILED && !have_prediction) {
+        tracked = answer_if_along_confirms(state, params, predicted, first, &along, &loose,
+                                           from_along, out);
     }
     if (tracked == TRACK_FAILED) {
         tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
                         START_GOES_ON, &loose, out);
     }
+    if (tracked == TRACK_FAILED && !have_prediction) {
+        tracked = answer_if_along_confirms(state, params, predicted, first, &along, &loose,
+                                           from_along, out);
+    }
     if (tracked == TRACK_FAILED && !have_prediction && loose.have) {
-        if (along_confirms(first, &along, &loose)) {
-            tracked = answer_loose(state, params, predicted, &loose, out);
-            *from_along = tracked == TRACK_FOUND;
-        } else {
-            /* Else a start PROBE ahead of the loose fit along the heading
-             * that comes back to it agrees. */
-            ego_pose_t probe = loose.r.pose;
-            probe.x = fx_add_q16(probe.x, PROBE);
-            tracked =
-                track(state, params, cur, &probe, &probe, false, dt, START_TRIAL, &loose, out);
-        }
+        /* Else a start PROBE ahead of the loose fit along the heading that
+         * comes back to it agrees. */
+        ego_pose_t probe = loose.r.pose;
+        probe.x = fx_add_q16(probe.x, PROBE);
+        tracked = track(state, params, cur, &probe, &probe, false, dt, START_TRIAL, &loose, out);
     }
     ego_pose_t turned = *predicted;
     if (tracked == TRACK_FAILED && turned_start(state, cur, predicted, &turned)) {

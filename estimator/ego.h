@@ -14,8 +14,9 @@
  *     scans' direction histograms (ego_hist_turn_guess), then from the
  *     shift along the direction of travel that best aligns the two scans'
  *     projections on it (ego_project_along: a speed the prediction
- *     missed). Without a prediction, a start that fits loosely is probed
- *     from 0.25 m ahead: coming back to it, the two agree. The last start,
+ *     missed). Without a prediction, a start that fits loosely answers
+ *     when the along start's shift agrees with it, or when a start 0.25 m
+ *     ahead of it comes back to it. The last start,
  *     when the budget cuts it before a pass over
  *     every point, goes on in the next scan's budget (the scan is
  *     recovering); its answer is a tracked motion. Along a corridor

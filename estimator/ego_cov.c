@@ -312,14 +312,7 @@ void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weig
      * (n - 3) (Q32). */
     scaled3_t c = product(product(inv, sm), inv);
     const int64_t variance = (int64_t)(sum_sq / (uint64_t)(total - 3)) * MODEL_FACTOR;
-    fit(&c, PRODUCT_BITS);
-    const unsigned vb = bits_u64((uint64_t)variance);
-    const unsigned vs = (vb > PRODUCT_BITS) ? vb - PRODUCT_BITS : 0u;
-    const int64_t v = shr_round(variance, vs);
-    for (unsigned i = 0u; i < 9u; i++) {
-        c.m[i] *= v;
-    }
-    c.e += (int32_t)vs - 32;
+    c = scale_columns(c, variance, variance, variance, -32);
     /* The start's part: where the equations barely constrain the pose the
      * damping keeps it at the start (the prediction), whose error is not
      * the residuals'. Each pass leaves R = A^-1 E of it (E the damping);

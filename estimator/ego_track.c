@@ -644,12 +644,12 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
     if (n > 0) {
         result->residual = (fx_q16_16_t)fx_sqrt_u64((g[0].sum_sq + g[1].sum_sq) / (uint64_t)n);
     }
-    ego_cov_group_t groups[2];
-    for (unsigned k = 0u; k < 2u; k++) {
-        groups[k].n = g[k].n;
-        memcpy(groups[k].a, g[k].a, sizeof groups[k].a);
-    }
     if (!run->failed) { /* charged with the run's last closing step */
+        ego_cov_group_t groups[2];
+        for (unsigned k = 0u; k < 2u; k++) {
+            groups[k].n = g[k].n;
+            memcpy(groups[k].a, g[k].a, sizeof groups[k].a);
+        }
         ego_cov_estimate(groups, g[0].sum_sq + g[1].sum_sq, run->params->weighted, &result->cov);
     }
     result->weak_rotation = run->weak_rotation;

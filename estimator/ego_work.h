@@ -55,7 +55,7 @@ typedef struct {
 #define EGO_COST_PROJECT_CELL 280u       /* ... and per window cell ranked */
 #define EGO_COST_SOLVE 2400u             /* one closed-form solution (eq. 12) */
 #define EGO_COST_COVARIANCE 6000u        /* a finished registration's covariance
-                                            (ego_cov.h: five 3x3 products, nine
+                                            (ego_cov.h: four 3x3 products, nine
                                             64-bit divisions) */
 #define EGO_COST_SCAN 30000u             /* per scan: bookkeeping, choosing, the output */
 

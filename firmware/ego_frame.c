@@ -188,16 +188,12 @@ static void decode(const uint8_t *b, ego_frame_t *f)
         ego_cov_unknown(&f->out.cov);
         return;
     }
-    fx_q2_30_t cov[6];
-    for (unsigned k = 0u; k < 6u; k++) {
-        cov[k] = get_s32(&b[OFF_COV + 4u * k]);
-    }
-    f->out.cov.xx = cov[0];
-    f->out.cov.xy = cov[1];
-    f->out.cov.xt = cov[2];
-    f->out.cov.yy = cov[3];
-    f->out.cov.yt = cov[4];
-    f->out.cov.tt = cov[5];
+    f->out.cov.xx = get_s32(&b[OFF_COV]);
+    f->out.cov.xy = get_s32(&b[OFF_COV + 4u]);
+    f->out.cov.xt = get_s32(&b[OFF_COV + 8u]);
+    f->out.cov.yy = get_s32(&b[OFF_COV + 12u]);
+    f->out.cov.yt = get_s32(&b[OFF_COV + 16u]);
+    f->out.cov.tt = get_s32(&b[OFF_COV + 20u]);
 }
 
 ego_frame_event_t ego_frame_feed(ego_frame_decoder_t *d, const uint8_t *bytes, size_t len,
