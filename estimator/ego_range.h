@@ -17,6 +17,15 @@
  * the scan, each step in (0, half a turn), at most one turn in all: a full
  * 360-degree sweep is fine.
  *
+ * Beam times (for de-skewing under motion; all zero: measured at once). A
+ * rotating sensor measures its beams beam_ns apart; one that interlaces
+ * passes (the LMS 2xx builds a 0.5-deg scan from two mirror turns, a
+ * 0.25-deg one from four) measures beam k in pass k % passes, k / passes
+ * beams into it, the passes pass_us apart:
+ *     t_k = (k % passes) * pass_us * 1000 + (k / passes) * beam_ns  (ns)
+ * The scan's time, the instant its pose and its dt refer to, is the mean
+ * of its beams' times (ego_range_mean_ns); a scan spans at most 1 s.
+ *
  * The scan only points at the caller's arrays (nothing is copied, no RAM
  * per beam here); they must stay put until ego_process returns. Nothing in
  * here knows a sensor: the SICK LMS 2xx adapter (firmware/ego_lms.h) turns
@@ -41,7 +50,14 @@ typedef struct {
     uint64_t first_bearing;    /* beam 0: Q32.32 binary angle, vehicle frame */
     uint64_t bearing_step;     /* between beams: Q32.32 binary angle */
     const fx_bam32_t *bearing; /* NULL: uniform; else count bearings, vehicle frame */
+    uint8_t passes;            /* interlaced passes, 0 (taken as 1) .. EGO_MAX_PASSES */
+    uint32_t pass_us;          /* between the starts of neighbouring passes, us */
+    uint32_t beam_ns;          /* between neighbouring beams of one pass, ns */
 } ego_range_scan_t;
+
+#define EGO_MAX_PASSES 4u
+/* The longest scan, from its first beam to its last, ns. */
+#define EGO_MAX_SCAN_SPAN_NS 1000000000u
 
 /* Q32.32 binary angle of a whole 32-bit one. */
 #define EGO_BEARING_Q32(bam) ((uint64_t)(uint32_t)(bam) << 32)
@@ -56,14 +72,64 @@ static inline fx_bam32_t ego_range_bearing(const ego_range_scan_t *scan, uint16_
     return (fx_bam32_t)((b + 0x80000000u) >> 32);
 }
 
+static inline uint32_t ego_range_passes(const ego_range_scan_t *scan)
+{
+    return (scan->passes == 0u) ? 1u : scan->passes;
+}
+
+/* Time of beam k after beam 0, ns (the scan passed ego_range_check). */
+static inline uint32_t ego_range_beam_ns(const ego_range_scan_t *scan, uint16_t k)
+{
+    const uint32_t passes = ego_range_passes(scan);
+    return (k % passes) * scan->pass_us * 1000u + (k / passes) * scan->beam_ns;
+}
+
+/* The scan's time: the mean of its beams' times after beam 0, ns, rounded
+ * down (0 for an empty scan). */
+static inline uint32_t ego_range_mean_ns(const ego_range_scan_t *scan)
+{
+    uint64_t sum = 0u;
+    for (uint16_t k = 0u; k < scan->count; k++) {
+        sum += ego_range_beam_ns(scan, k);
+    }
+    return (scan->count > 0u) ? (uint32_t)(sum / scan->count) : 0u;
+}
+
+/* From the scan's time to its last beam, ns: how long before the sensor
+ * can have sent it the scan's time was. */
+static inline uint32_t ego_range_lag_ns(const ego_range_scan_t *scan)
+{
+    uint32_t last = 0u;
+    for (uint16_t k = 0u; k < scan->count; k++) {
+        const uint32_t t = ego_range_beam_ns(scan, k);
+        last = (t > last) ? t : last;
+    }
+    return last - ego_range_mean_ns(scan);
+}
+
+/* The beam times span at most EGO_MAX_SCAN_SPAN_NS (so every time and
+ * every offset from the mean fits 31 bits). */
+static inline bool ego_range_times_ok(const ego_range_scan_t *scan)
+{
+    const uint32_t passes = ego_range_passes(scan);
+    if (passes > EGO_MAX_PASSES || scan->pass_us > EGO_MAX_SCAN_SPAN_NS / 1000u ||
+        scan->beam_ns > EGO_MAX_SCAN_SPAN_NS) {
+        return false;
+    }
+    const uint32_t per_pass = (scan->count > 0u) ? (uint32_t)(scan->count - 1u) / passes : 0u;
+    const uint64_t span =
+        (uint64_t)(passes - 1u) * scan->pass_us * 1000u + (uint64_t)per_pass * scan->beam_ns;
+    return span <= EGO_MAX_SCAN_SPAN_NS;
+}
+
 /* True when the scan is usable: arrays given, count within the capacity,
  * a range unit in 1 um .. 0.5 m (the largest range, 65535 units, then
- * fits Q16.16 metres), every step between neighbouring bearings in (0, half a
+ * fits Q16.16 metres), beam times within ego_range_times_ok, every step between neighbouring bearings in (0, half a
  * turn), at most one turn in all. One pass over the bearings of a table. */
 static inline bool ego_range_check(const ego_range_scan_t *scan)
 {
     if (scan == NULL || scan->count > EGO_MAX_BEAMS || (scan->count > 0u && scan->range == NULL) ||
-        scan->range_unit_um == 0u || scan->range_unit_um > 500000u) {
+        scan->range_unit_um == 0u || scan->range_unit_um > 500000u || !ego_range_times_ok(scan)) {
         return false;
     }
     const uint16_t steps = (scan->count > 0u) ? (uint16_t)(scan->count - 1u) : 0u;

@@ -9,6 +9,13 @@
 #define CDEG_PER_TURN 36000u
 #define CDEG_QUARTER 9000u
 
+/* The mirror turns at 75 Hz: one turn, and one degree of it. A scan finer
+ * than 1 deg interlaces turns, each offset by one step, in value order
+ * (value k from turn k % turns). */
+#define LMS_TURN_US 13333u
+#define LMS_DEGREE_NS 37037u
+#define CDEG_PER_TURN_STEP 100u
+
 void ego_lms_defaults(ego_lms_params_t *params)
 {
     memset(params, 0, sizeof *params);
@@ -53,5 +60,10 @@ ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *param
         bearing_from_cdeg(((uint32_t)layout.start_cdeg + CDEG_PER_TURN - CDEG_QUARTER) % CDEG_PER_TURN) +
         EGO_BEARING_Q32(params->mount_theta);
     out->bearing_step = bearing_from_cdeg(layout.step_cdeg); /* bearing NULL: uniform */
+    /* A partial scan (mode 2A) is one turn; a complete one at 0.5 (0.25)
+     * deg is two (four). */
+    out->passes = lms->is_partial ? 1u : (uint8_t)(CDEG_PER_TURN_STEP / layout.step_cdeg);
+    out->pass_us = LMS_TURN_US;
+    out->beam_ns = LMS_DEGREE_NS;
     return EGO_LMS_OK;
 }

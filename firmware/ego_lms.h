@@ -44,7 +44,9 @@ typedef enum {
  * special value: the raw words are gone) and fills out to point at them:
  * one beam per value, uniform bearings from the LMS layout turned by
  * mount_theta (each bearing comes out as the LMS angle rounded to a binary
- * angle on its own would). On an error lms is untouched and out->count
+ * angle on its own would) and the beam times of the mirror (75 turns a
+ * second; a 0.5-deg scan from two turns, a 0.25-deg one from four, value k
+ * from turn k % turns: ego_range.h). On an error lms is untouched and out->count
  * is 0. */
 ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *params,
                                   ego_range_scan_t *out);

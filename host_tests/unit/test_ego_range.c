@@ -200,6 +200,15 @@ static void test_ego_range_malformed_scans_are_refused(void)
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
     table[300] = table[299] + 0x80000000u; /* half a turn at once */
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad = g_scan;
+    bad.passes = (uint8_t)(EGO_MAX_PASSES + 1u); /* more passes than any sensor interlaces */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad.passes = 2u;
+    bad.pass_us = 500000u;
+    bad.beam_ns = 1400000u; /* 0.5 s + 359 * 1.4 ms: longer than a second */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad.beam_ns = 1390000u; /* 0.5 s + 359 * 1.39 ms: within a second */
+    TEST_ASSERT_TRUE(ego_range_check(&bad));
     TEST_ASSERT_FALSE(ego_range_check(NULL));
 
     /* The state kept the good scan: the next one matches it. */
@@ -229,6 +238,34 @@ static void test_ego_range_tiny_scans_are_flagged(void)
     TEST_ASSERT_TRUE((out.flags & EGO_FLAG_TOO_FEW_POINTS) != 0u);
 }
 
+/* Beam times: two passes interlaced (the LMS 2xx at 0.5 deg), the scan's
+ * time their mean, the lag to the last beam; and none at all. */
+static void test_ego_range_beam_times_of_interlaced_passes(void)
+{
+    memset(&g_scan, 0, sizeof g_scan);
+    g_scan.count = 361u;
+    g_scan.range = g_range;
+    g_scan.range_unit_um = UNIT_UM;
+    g_scan.bearing_step = STEP_Q32;
+    TEST_ASSERT_EQUAL_UINT32(0u, ego_range_beam_ns(&g_scan, 360u)); /* at once */
+    TEST_ASSERT_EQUAL_UINT32(0u, ego_range_mean_ns(&g_scan));
+    TEST_ASSERT_EQUAL_UINT32(0u, ego_range_lag_ns(&g_scan));
+    g_scan.passes = 2u;
+    g_scan.pass_us = 13333u;
+    g_scan.beam_ns = 37037u;
+    TEST_ASSERT_TRUE(ego_range_check(&g_scan));
+    TEST_ASSERT_EQUAL_UINT32(0u, ego_range_beam_ns(&g_scan, 0u));
+    TEST_ASSERT_EQUAL_UINT32(13333000u, ego_range_beam_ns(&g_scan, 1u));
+    TEST_ASSERT_EQUAL_UINT32(37037u, ego_range_beam_ns(&g_scan, 2u));
+    TEST_ASSERT_EQUAL_UINT32(180u * 37037u, ego_range_beam_ns(&g_scan, 360u));
+    TEST_ASSERT_EQUAL_UINT32(13333000u + 179u * 37037u, ego_range_beam_ns(&g_scan, 359u));
+    /* Mean: pass 0 has 181 beams at 0..180, pass 1 has 180 at 13.333 ms + 0..179. */
+    const double mean = (181.0 * 90.0 * 37037.0 + 180.0 * (13333000.0 + 89.5 * 37037.0)) / 361.0;
+    TEST_ASSERT_INT32_WITHIN(1, (int32_t)mean, (int32_t)ego_range_mean_ns(&g_scan));
+    TEST_ASSERT_INT32_WITHIN(1, (int32_t)(13333000.0 + 179.0 * 37037.0 - mean),
+                             (int32_t)ego_range_lag_ns(&g_scan));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -236,5 +273,6 @@ int main(void)
     RUN_TEST(test_ego_range_per_beam_bearings_equal_uniform_ones);
     RUN_TEST(test_ego_range_malformed_scans_are_refused);
     RUN_TEST(test_ego_range_tiny_scans_are_flagged);
+    RUN_TEST(test_ego_range_beam_times_of_interlaced_passes);
     return UNITY_END();
 }

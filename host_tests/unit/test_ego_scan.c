@@ -120,6 +120,11 @@ static void test_ego_scan_wall_in_every_layout(void)
         make_wall_scan(counts[c], LMS_UNIT_MM, 3.0);
         prepare(&p);
         TEST_ASSERT_EQUAL_UINT16(counts[c], g_scan.beams);
+        /* The mirror's timing: 1 deg a turn at 75 Hz, finer scans interlace turns. */
+        const unsigned turns = (counts[c] == 181u || counts[c] == 101u) ? 1u : (counts[c] == 401u) ? 4u : 2u;
+        TEST_ASSERT_EQUAL_UINT32(turns, ego_range_passes(&g_range));
+        TEST_ASSERT_EQUAL_UINT32(13333u, g_range.pass_us);
+        TEST_ASSERT_EQUAL_UINT32(37037u, g_range.beam_ns);
         TEST_ASSERT_TRUE(g_scan.count > 50u);
         check_points_against_double(&p, 0.0, 0.0, 0.0);
         for (uint16_t i = 0u; i < g_scan.count; i++) {
