@@ -91,9 +91,9 @@ static errors_t run_campus(unsigned first, unsigned n, bool per_beam)
     ego_reset(&g_state);
     errors_t e;
     memset(&e, 0, sizeof e);
-    wpose_t last = campus->pose(first, PERIOD_S);
+    wpose_t last = campus->pose(first, PERIOD_S, 0.0);
     for (unsigned i = 0u; i < n; i++) {
-        const wpose_t pose = campus->pose(first + i, PERIOD_S);
+        const wpose_t pose = campus->pose(first + i, PERIOD_S, 0.0);
         cast_scan(pose, per_beam);
         ego_output_t out;
         const uint32_t t_us = (uint32_t)lround(i * PERIOD_S * 1e6);
@@ -168,7 +168,7 @@ static void test_ego_range_malformed_scans_are_refused(void)
     g_params.work_per_s = 0u; /* the algorithm on a generic sensor, unbounded */
     ego_reset(&g_state);
     ego_output_t out;
-    cast_scan(campus->pose(400u, PERIOD_S), false);
+    cast_scan(campus->pose(400u, PERIOD_S, 0.0), false);
     TEST_ASSERT_TRUE(ego_range_check(&g_scan));
     TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_scan, 0u, &out));
 
@@ -212,7 +212,7 @@ static void test_ego_range_malformed_scans_are_refused(void)
     TEST_ASSERT_FALSE(ego_range_check(NULL));
 
     /* The state kept the good scan: the next one matches it. */
-    cast_scan(campus->pose(401u, PERIOD_S), false);
+    cast_scan(campus->pose(401u, PERIOD_S, 0.0), false);
     TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_scan, 26667u, &out));
     TEST_ASSERT_EQUAL_HEX16(0u, out.flags);
     TEST_ASSERT_TRUE(out.matches > 300u);

@@ -10,6 +10,9 @@
  *                 pose of scan j = i + 1 in the frame of scan i (m, rad),
  *                 the estimate format of ../shared/tools/relpose_eval.py
  *   --poses FILE  absolute scanner poses, TUM "time x y z qx qy qz qw"
+ * Beam timing: by default (--timing instant) every value of a scan is cast
+ * from the scanner's pose at the scan's time; --timing lms casts value i
+ * at its own time on the 75 Hz mirror (world_scan.h), the truth unchanged.
  *
  * Deterministic: Gaussian range noise from xorshift64 (seeded through
  * splitmix64 from --seed) and Box-Muller; no rand(), no clock. Built with
@@ -132,14 +135,15 @@ typedef struct {
     const char *out_path;
     const char *truth_path;
     const char *poses_path;
+    bool lms_timing; /* --timing lms: each value cast at its own time */
 } gen_options_t;
 
 static void print_usage(FILE *to)
 {
     (void)fputs(
         "usage: lmsworld --scenario NAME [--seed N] [--scans N] [--skip K] [--res 1|0.5]\n"
-        "                [--unit cm|mm] [--noise-cm SIGMA] [--max-range M] -o STREAM\n"
-        "                --truth PAIRS [--poses TUM]\n"
+        "                [--unit cm|mm] [--noise-cm SIGMA] [--max-range M]\n"
+        "                [--timing instant|lms] -o STREAM --truth PAIRS [--poses TUM]\n"
         "Ray-casts an LMS 2xx (180 deg) moving through a 2-D world and writes the\n"
         "scanner->host stream (06, A0 reply, one B0 per scan) and its ground truth.\n"
         "  --scenario NAME   see below\n"
@@ -153,6 +157,12 @@ static void print_usage(FILE *to)
         "                    mm: measuring mode 0F (16 bit), no surface = 0\n"
         "  --noise-cm SIGMA  Gaussian range noise, cm (default 0: rounding only)\n"
         "  --max-range M     metres (default 50; at most 81.82 in cm, 65.535 in mm)\n"
+        "  --timing instant|lms\n"
+        "                    instant: every value cast from the scan's pose (default);\n"
+        "                    lms: value i cast at its own time, the mirror's 75 Hz:\n"
+        "                    (i % P)/75 + (i / P)/27000 s after value 0 (P = 2 passes\n"
+        "                    for 361 values, 1 for 181), minus their mean (the scan's\n"
+        "                    time, to which the truth refers)\n"
         "  -o STREAM         the recording\n"
         "  --truth PAIRS     'i j dx dy dtheta' per consecutive pair: scan j in the\n"
         "                    frame of scan i (m, rad)\n"
@@ -236,6 +246,14 @@ static int parse_option(const char *opt, const char *val, gen_options_t *o)
             return usage_error("bad --max-range (metres, at most 81.82)", val);
         }
         o->max_range = real;
+    } else if (strcmp(opt, "--timing") == 0) {
+        if (strcmp(val, "lms") == 0) {
+            o->lms_timing = true;
+        } else if (strcmp(val, "instant") == 0) {
+            o->lms_timing = false;
+        } else {
+            return usage_error("bad --timing (instant or lms)", val);
+        }
     } else if (strcmp(opt, "-o") == 0) {
         o->out_path = val;
     } else if (strcmp(opt, "--truth") == 0) {
@@ -333,9 +351,10 @@ static void header(buf_t *b, const gen_options_t *o, const char *what)
 {
     buf_printf(b,
                "# lmsworld --scenario %s --seed %llu --scans %u --skip %u --res %s --unit %s "
-               "--noise-cm %g --max-range %g\n# %s\n",
+               "--noise-cm %g --max-range %g%s\n# %s\n",
                o->scenario->name, (unsigned long long)o->seed, o->scans, o->skip, o->res_text,
-               (o->unit == LMS_UNIT_MM) ? "mm" : "cm", o->noise_cm, o->max_range, what);
+               (o->unit == LMS_UNIT_MM) ? "mm" : "cm", o->noise_cm, o->max_range,
+               o->lms_timing ? " --timing lms" : "", what);
 }
 
 static void generate(const gen_options_t *o, outputs_t *out)
@@ -358,8 +377,10 @@ static void generate(const gen_options_t *o, outputs_t *out)
     rng_seed(&rng, o->seed);
     wmap_t world;
     wmap_t active;
+    wmap_t scratch;
     wmap_init(&world);
     wmap_init(&active);
+    wmap_init(&scratch);
     o->scenario->build_map(&world);
 
     static double ranges[LMS_SCAN_MAX_VALUES];
@@ -369,11 +390,16 @@ static void generate(const gen_options_t *o, outputs_t *out)
     for (unsigned k = 0u; k < o->scans; k++) {
         const unsigned scene_k = o->skip + k;
         const double t = (double)scene_k * period;
-        const wpose_t pose = o->scenario->pose(scene_k, period);
-        const size_t mover_count = (o->scenario->movers != NULL) ? o->scenario->movers(t, movers)
-                                                                 : 0u;
-        world_scan_prepare(&world, movers, mover_count, pose, o->max_range, &active);
-        world_scan_cast(&active, pose, o->values, res_deg, ranges);
+        const wpose_t pose = o->scenario->pose(scene_k, period, 0.0);
+        if (o->lms_timing) {
+            world_scan_cast_lms(o->scenario, &world, scene_k, period, o->values, res_deg,
+                                o->max_range, &active, &scratch, ranges);
+        } else {
+            const size_t mover_count =
+                (o->scenario->movers != NULL) ? o->scenario->movers(t, movers) : 0u;
+            world_scan_prepare(&world, movers, mover_count, pose, o->max_range, &active);
+            world_scan_cast(&active, pose, o->values, res_deg, ranges);
+        }
         for (unsigned i = 0u; i < o->values; i++) {
             /* One deviate per beam, hit or not: the noise of a beam does
              * not depend on the others. */
@@ -393,6 +419,7 @@ static void generate(const gen_options_t *o, outputs_t *out)
     }
     wmap_free(&world);
     wmap_free(&active);
+    wmap_free(&scratch);
 }
 
 int main(int argc, char **argv)

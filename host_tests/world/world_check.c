@@ -9,9 +9,13 @@
  *   world_check pairs TRUTH POSES N PERIOD SKIP
  *                                    truth file consistent with the TUM poses
  *   world_check table2 TRUTH         the pair equals the paper's Table 2
- *   world_check decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP
+ *   world_check timing               --timing lms: beam times, and casts
+ *                                    against closed forms under motion
+ *   world_check decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP [TIMING]
  *                                    `lmsego scans` output of a noise-free
  *                                    stream equals freshly cast ranges
+ *                                    (TIMING lms: each value cast on the
+ *                                    whole map at its own time)
  */
 #include <errno.h>
 #include <math.h>
@@ -274,7 +278,7 @@ static void check_culling(void)
     campus->build_map(&map);
     const double max_range = 50.0;
     for (unsigned k = 0u; k < 929u; k += 37u) {
-        const wpose_t pose = campus->pose(k, 2.0 / 75.0);
+        const wpose_t pose = campus->pose(k, 2.0 / 75.0, 0.0);
         world_scan_prepare(&map, NULL, 0u, pose, max_range, &active);
         expect_true("culling keeps fewer primitives",
                     active.seg_count <= map.seg_count && active.circle_count <= map.circle_count);
@@ -402,10 +406,15 @@ static void survey(const wscenario_t *sc, double period)
     double step_min = INFINITY;
     double step_max = 0.0;
     double turn_max = 0.0;
+    double turn_min = INFINITY;
+    double seen_min = 1.0;     /* least fraction of beams hitting within 50 m */
+    double fast_turn_max = 0.0; /* largest turn per scan at >= 10 m/s */
+    wmap_t active;
+    wmap_init(&active);
     wmover_t movers[WORLD_MAX_MOVERS];
-    wpose_t last = sc->pose(0u, period);
+    wpose_t last = sc->pose(0u, period, 0.0);
     for (unsigned k = 0u; k < sc->default_scans; k++) {
-        const wpose_t p = sc->pose(k, period);
+        const wpose_t p = sc->pose(k, period, 0.0);
         min_clear = fmin(min_clear, wmap_clearance(&map, p.x, p.y));
         if (sc->movers != NULL) {
             const size_t n = sc->movers((double)k * period, movers);
@@ -422,13 +431,29 @@ static void survey(const wscenario_t *sc, double period)
             step_min = fmin(step_min, step);
             step_max = fmax(step_max, step);
             turn_max = fmax(turn_max, fabs(rel.theta) * 180.0 / WORLD_PI);
+            turn_min = fmin(turn_min, fabs(rel.theta) * 180.0 / WORLD_PI);
+            if (step >= 10.0 * period - 1e-9) {
+                fast_turn_max = fmax(fast_turn_max, fabs(rel.theta));
+            }
+        }
+        if (k % 8u == 0u) {
+            /* 181 beams without movers: how much of the view is mapped. */
+            double ranges[181];
+            unsigned seen = 0u;
+            world_scan_prepare(&map, NULL, 0u, p, 50.0, &active);
+            world_scan_cast(&active, p, 181u, 1.0, ranges);
+            for (unsigned i = 0u; i < 181u; i++) {
+                seen += (ranges[i] <= 50.0) ? 1u : 0u;
+            }
+            seen_min = fmin(seen_min, (double)seen / 181.0);
         }
         last = p;
     }
+    wmap_free(&active);
     (void)printf("%-9s %4u scans at %5.2f Hz: %7.1f m, step %.3f..%.3f m, turn <= %.2f deg, "
-                 "clearance >= %.2f m",
+                 "clearance >= %.2f m, >= %.0f %% of beams hit",
                  sc->name, sc->default_scans, 1.0 / period, length, step_min, step_max, turn_max,
-                 min_clear);
+                 min_clear, 100.0 * seen_min);
     if (sc->movers != NULL) {
         (void)printf(", cars >= %.2f m from the scanner, car centres >= %.2f m from the map",
                      min_car, min_car_static);
@@ -446,8 +471,33 @@ static void survey(const wscenario_t *sc, double period)
     if (strcmp(sc->name, "campus") == 0 || strcmp(sc->name, "busy") == 0) {
         expect_true("campus: at most 10 m/s", step_max <= 10.0 * period + 1e-9);
     }
-    if (strcmp(sc->name, "corridor") == 0) {
+    if (strcmp(sc->name, "corridor") == 0 || strcmp(sc->name, "sparse") == 0) {
         expect_true("corridor: straight", turn_max == 0.0);
+    }
+    if (strcmp(sc->name, "sparse") == 0) {
+        expect_true("sparse: 5-8 m/s", step_min >= 5.0 * period - 1e-9 &&
+                                           step_max <= 8.0 * period + 1e-9);
+    }
+    if (strcmp(sc->name, "plaza") == 0) {
+        expect_true("plaza: 3-4 m/s", step_min >= 3.0 * period * 0.999 &&
+                                          step_max <= 4.0 * period + 1e-9);
+    }
+    if (strcmp(sc->name, "ring") == 0) {
+        expect_true("ring: standing at the centre", length == 0.0 && min_clear >= 8.9);
+        expect_near("ring: 18.75 deg/s (0.5 deg a scan at 37.5 Hz), min", turn_min,
+                    18.75 * period, 1e-9);
+        expect_near("ring: 18.75 deg/s, max", turn_max, 18.75 * period, 1e-9);
+    }
+    if (strcmp(sc->name, "highway") == 0) {
+        /* Chords: a little under the speed on the curves. */
+        expect_true("highway: 10-30 m/s", step_min >= 10.0 * period * 0.999 &&
+                                              step_max <= 30.0 * period + 1e-9);
+        expect_true("highway: at most 0.5 rad/s",
+                    turn_max <= 0.5 * period * 180.0 / WORLD_PI + 1e-9);
+        expect_true("highway: 0.5 rad/s reached at 10 m/s or more",
+                    fast_turn_max >= 0.499 * period);
+        expect_true("highway: structure in view (half the beams hit within 50 m)",
+                    seen_min >= 0.5);
     }
     wmap_free(&map);
 }
@@ -457,6 +507,251 @@ static int cmd_scenarios(void)
     for (size_t i = 0u; i < wscenario_count(); i++) {
         survey(wscenario_at(i), 2.0 / 75.0);
         survey(wscenario_at(i), 1.0 / 75.0);
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* timing: --timing lms. Beam times written out again from the LMS 2xx's
+ * mirror (75 Hz, one turn 13 333.3 us, one degree 37.037 us): a 181-value
+ * scan is one sweep; a 361-value scan interlaces two turns, the even values
+ * (0, 1, 2.. deg) from the first, the odd (0.5, 1.5.. deg) from the second. */
+
+static double ref_beam_time(unsigned i, unsigned count)
+{
+    const double turn_us = 1e6 / 75.0;
+    const double degree_us = turn_us / 360.0;
+    if (count == 361u) {
+        const unsigned pair = i / 2u; /* values 2j and 2j + 1 are j degrees in */
+        return ((((i % 2u) != 0u) ? turn_us : 0.0) + (double)pair * degree_us) * 1e-6;
+    }
+    return (double)i * degree_us * 1e-6;
+}
+
+static double ref_mean_time(unsigned count)
+{
+    double sum = 0.0;
+    for (unsigned i = 0u; i < count; i++) {
+        sum += ref_beam_time(i, count);
+    }
+    return sum / (double)count;
+}
+
+/* The motions the timing checks cast: a file-level choice, since the
+ * scenario callbacks take no context. */
+static int motion;
+enum { MOTION_STILL, MOTION_FORWARD, MOTION_TURN, MOTION_CAR };
+
+#define TIMING_SPEED 25.0 /* m/s, forward */
+#define TIMING_RATE 0.5   /* rad/s, turning */
+#define TIMING_WALL 6.0   /* m ahead of the origin */
+#define TIMING_CAR_SPEED 20.0
+
+static wpose_t timing_pose(unsigned k, double period, double dt)
+{
+    const double t = (double)k * period + dt;
+    wpose_t p = {0.0, 0.0, 0.0};
+    if (motion == MOTION_STILL) {
+        p.x = 95.0;
+        p.y = 20.0;
+        p.theta = 0.7;
+    } else if (motion == MOTION_FORWARD) {
+        p.x = TIMING_SPEED * t;
+    } else if (motion == MOTION_TURN) {
+        p.theta = TIMING_RATE * t;
+    }
+    return p;
+}
+
+/* MOTION_CAR: a car ahead of the still scanner, centre at 10 m + 20 m/s t. */
+static size_t timing_movers(double t, wmover_t *out)
+{
+    if (motion != MOTION_CAR) {
+        return 0u;
+    }
+    const wmover_t car = {10.0 + TIMING_CAR_SPEED * t, 0.0, 0.0, WORLD_CAR_LENGTH,
+                          WORLD_CAR_WIDTH};
+    out[0] = car;
+    return 1u;
+}
+
+static void timing_wall_map(wmap_t *map)
+{
+    wmap_add_segment(map, TIMING_WALL, -1000.0, TIMING_WALL, 1000.0);
+}
+
+static void check_beam_times(void)
+{
+    char what[96];
+    for (unsigned i = 0u; i < 181u; i++) {
+        (void)snprintf(what, sizeof what, "181 values: value %u at %u x 37.037 us", i, i);
+        expect_near(what, world_beam_time(i, 181u), ref_beam_time(i, 181u), 1e-15);
+    }
+    for (unsigned i = 0u; i < 361u; i++) {
+        (void)snprintf(what, sizeof what, "361 values: value %u (interlaced)", i);
+        expect_near(what, world_beam_time(i, 361u), ref_beam_time(i, 361u), 1e-15);
+    }
+    expect_near("181: value 180 at 6.667 ms", world_beam_time(180u, 181u), 1.0 / 150.0, 1e-15);
+    expect_near("361: value 1 at 13.333 ms", world_beam_time(1u, 361u), 1.0 / 75.0, 1e-15);
+    expect_near("361: value 2 at 37.037 us", world_beam_time(2u, 361u), 1.0 / 27000.0, 1e-15);
+    expect_near("361: value 360 at 6.667 ms", world_beam_time(360u, 361u), 1.0 / 150.0, 1e-15);
+    expect_near("361: value 359 at 13.333 ms + 179 x 37.037 us", world_beam_time(359u, 361u),
+                1.0 / 75.0 + 179.0 / 27000.0, 1e-15);
+    /* Means in closed form: 90 degrees into a sweep; for 361, 180 odd
+     * values a turn later (180 / 75 s) and sum(i / 2) = 32 400 degrees:
+     * (2.4 + 1.2) / 361 s. */
+    expect_near("181: mean 3.333 ms", world_beam_mean_time(181u), 90.0 / 27000.0, 1e-15);
+    expect_near("361: mean 9.972 ms", world_beam_mean_time(361u), 3.6 / 361.0, 1e-15);
+    expect_near("361: mean (summed)", world_beam_mean_time(361u), ref_mean_time(361u), 1e-15);
+    expect_true("passes", world_scan_passes(361u) == 2u && world_scan_passes(181u) == 1u);
+}
+
+/* One --timing lms scan of the motion in use; period 2/75 or 1/75. */
+static void cast_timed(const wmap_t *map, unsigned k, unsigned count, double *ranges)
+{
+    const wscenario_t sc = {"timing", "", 10u, 0u, NULL, timing_pose, timing_movers};
+    const double period = (count == 361u) ? 2.0 / 75.0 : 1.0 / 75.0;
+    wmap_t active;
+    wmap_t scratch;
+    wmap_init(&active);
+    wmap_init(&scratch);
+    world_scan_cast_lms(&sc, map, k, period, count, 180.0 / (double)(count - 1u), 50.0,
+                        &active, &scratch, ranges);
+    wmap_free(&active);
+    wmap_free(&scratch);
+}
+
+/* Every scenario is a function of time: continuous around each scan, and
+ * dt = one period after scan k is scan k + 1. */
+static void check_scenario_times(void)
+{
+    static const double periods[2] = {2.0 / 75.0, 1.0 / 75.0};
+    static const unsigned scans[4] = {0u, 1u, 37u, 150u};
+    char what[96];
+    for (size_t i = 0u; i < wscenario_count(); i++) {
+        const wscenario_t *sc = wscenario_at(i);
+        for (size_t j = 0u; j < 2u * 4u; j++) {
+            const double period = periods[j / 4u];
+            const unsigned k = scans[j % 4u];
+            if (sc->required_scans != 0u && k + 1u >= sc->required_scans) {
+                continue;
+            }
+            const wpose_t at = sc->pose(k, period, 0.0);
+            const wpose_t next = sc->pose(k + 1u, period, 0.0);
+            const wpose_t later = sc->pose(k, period, period);
+            const wpose_t before = sc->pose(k, period, -1e-6);
+            const wpose_t after = sc->pose(k, period, 1e-6);
+            (void)snprintf(what, sizeof what, "%s: scan %u + one period = scan %u", sc->name, k,
+                           k + 1u);
+            expect_near(what, hypot(later.x - next.x, later.y - next.y) +
+                                  fabs(angle_diff(later.theta, next.theta)),
+                        0.0, 1e-9);
+            (void)snprintf(what, sizeof what, "%s: continuous at scan %u", sc->name, k);
+            /* 1 us either side: at most 0.5 mm and 5e-5 rad (the keyframe
+             * scenarios at 1/75 s are the fastest: table2 moves 4.3 m and
+             * 25 deg a period, 0.33 mm and 3.3e-5 rad a microsecond). */
+            expect_true(what, hypot(before.x - at.x, before.y - at.y) < 5e-4 &&
+                                  hypot(after.x - at.x, after.y - at.y) < 5e-4 &&
+                                  fabs(angle_diff(before.theta, at.theta)) < 5e-5 &&
+                                  fabs(angle_diff(after.theta, at.theta)) < 5e-5);
+        }
+    }
+}
+
+static int cmd_timing(void)
+{
+    check_beam_times();
+    check_scenario_times();
+    static const unsigned counts[2] = {361u, 181u};
+    for (size_t c = 0u; c < 2u; c++) {
+        const unsigned count = counts[c];
+        const double res = 180.0 / (double)(count - 1u);
+        const double period = (count == 361u) ? 2.0 / 75.0 : 1.0 / 75.0;
+        const double mean = ref_mean_time(count);
+        const unsigned k = 7u;
+        double lms[LMS_SCAN_MAX_VALUES];
+        double instant[LMS_SCAN_MAX_VALUES];
+
+        /* Standing still in the campus: lms timing changes nothing. */
+        motion = MOTION_STILL;
+        wmap_t campus;
+        wmap_init(&campus);
+        wscenario_find("campus")->build_map(&campus);
+        cast_timed(&campus, k, count, lms);
+        wmap_t active;
+        wmap_init(&active);
+        const wpose_t still = timing_pose(k, period, 0.0);
+        world_scan_prepare(&campus, NULL, 0u, still, 50.0, &active);
+        world_scan_cast(&active, still, count, res, instant);
+        for (unsigned i = 0u; i < count; i++) {
+            if (instant[i] <= 50.0 || lms[i] <= 50.0) {
+                expect_near("standing still: lms = instant", lms[i], instant[i], 0.0);
+            }
+        }
+        wmap_free(&active);
+        wmap_free(&campus);
+
+        /* Driving at 25 m/s at a wall 6 m ahead (perpendicular): value i
+         * is cast from x = v t_i, range (D - v t_i) / cos(phi_i). */
+        wmap_t wall;
+        wmap_init(&wall);
+        timing_wall_map(&wall);
+        motion = MOTION_FORWARD;
+        cast_timed(&wall, k, count, lms);
+        unsigned differ = 0u;
+        for (unsigned i = 0u; i < count; i++) {
+            const double phi = world_rad((double)i * res - 90.0);
+            const double t = (double)k * period + ref_beam_time(i, count) - mean;
+            const double want = (cos(phi) > 1e-9) ? (TIMING_WALL - TIMING_SPEED * t) / cos(phi)
+                                                  : INFINITY;
+            const double at_scan = (cos(phi) > 1e-9)
+                                       ? (TIMING_WALL - TIMING_SPEED * (double)k * period) /
+                                             cos(phi)
+                                       : INFINITY;
+            if (want <= 50.0) {
+                expect_near("forward at a wall: range at the value's own time", lms[i], want,
+                            1e-9 * (1.0 + want));
+                differ += (fabs(lms[i] - at_scan) > 0.01) ? 1u : 0u;
+            }
+        }
+        expect_true("forward: most values differ from the scan instant by > 1 cm",
+                    differ > count / 2u);
+
+        /* Turning at 0.5 rad/s at the origin: value i points along
+         * omega t_i + phi_i, range D / cos of that. */
+        motion = MOTION_TURN;
+        cast_timed(&wall, k, count, lms);
+        for (unsigned i = 0u; i < count; i++) {
+            const double t = (double)k * period + ref_beam_time(i, count) - mean;
+            const double a = TIMING_RATE * t + world_rad((double)i * res - 90.0);
+            const double want = (cos(a) > 1e-9) ? TIMING_WALL / cos(a) : INFINITY;
+            if (want <= 50.0) {
+                expect_near("turning at a wall: direction at the value's own time", lms[i], want,
+                            1e-9 * (1.0 + want));
+            }
+        }
+        wmap_free(&wall);
+
+        /* A car driving away at 20 m/s from the still scanner at the
+         * origin: its rear face at 10 + w t_i - 2.25 m. */
+        motion = MOTION_CAR;
+        wmap_t empty;
+        wmap_init(&empty);
+        cast_timed(&empty, k, count, lms);
+        unsigned hits = 0u;
+        for (unsigned i = 0u; i < count; i++) {
+            const double phi = world_rad((double)i * res - 90.0);
+            const double t = (double)k * period + ref_beam_time(i, count) - mean;
+            const double rear = 10.0 + TIMING_CAR_SPEED * t - 0.5 * WORLD_CAR_LENGTH;
+            const double want =
+                (cos(phi) > 0.0 && rear * fabs(tan(phi)) <= 0.5 * WORLD_CAR_WIDTH)
+                    ? rear / cos(phi)
+                    : INFINITY;
+            expect_near("car: its position at the value's own time", lms[i], want, 1e-9);
+            hits += isinf(want) ? 0u : 1u;
+        }
+        expect_true("car: seen", hits > 5u);
+        wmap_free(&empty);
     }
     return 0;
 }
@@ -669,9 +964,15 @@ static int cmd_table2(const char *truth_path)
 /* decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP: each scan line of
  * `lmsego scans` ("index unit_mm n v1 .. vn") against the ranges cast now. */
 static int cmd_decode(const char *scans_path, const char *name, const char *res_text,
-                      const char *unit_text, const char *max_text, const char *skip_text)
+                      const char *unit_text, const char *max_text, const char *skip_text,
+                      const char *timing_text)
 {
     unsigned long skip = 0u;
+    const bool lms_timing = strcmp(timing_text, "lms") == 0;
+    if (!lms_timing && strcmp(timing_text, "instant") != 0) {
+        (void)fputs("world_check decode: TIMING is instant or lms\n", stderr);
+        return 2;
+    }
     const wscenario_t *sc = wscenario_find(name);
     const double res = strtod(res_text, NULL);
     const bool mm = strcmp(unit_text, "mm") == 0;
@@ -685,9 +986,12 @@ static int cmd_decode(const char *scans_path, const char *name, const char *res_
     const double period = (res == 1.0) ? 1.0 / 75.0 : 2.0 / 75.0;
     wmap_t map;
     wmap_t active;
+    wmap_t cars;
     wmap_init(&map);
     wmap_init(&active);
+    wmap_init(&cars);
     sc->build_map(&map);
+    const double mean = ref_mean_time(count);
     FILE *fp = open_or_die(scans_path);
     static char line[8192];
     unsigned k = 0u;
@@ -696,11 +1000,25 @@ static int cmd_decode(const char *scans_path, const char *name, const char *res_
     while (fgets(line, sizeof line, fp) != NULL) {
         const unsigned scene_k = (unsigned)skip + k;
         const double t = (double)scene_k * period;
-        const wpose_t pose = sc->pose(scene_k, period);
+        const wpose_t pose = sc->pose(scene_k, period, 0.0);
         const size_t nm = (sc->movers != NULL) ? sc->movers(t, movers) : 0u;
         world_scan_prepare(&map, movers, nm, pose, max_range, &active);
         double ranges[LMS_SCAN_MAX_VALUES];
         world_scan_cast(&active, pose, count, res, ranges);
+        for (unsigned i = 0u; lms_timing && i < count; i++) {
+            /* Each value from its own pose and cars, on the whole map. */
+            const double dt = ref_beam_time(i, count) - mean;
+            const wpose_t at = sc->pose(scene_k, period, dt);
+            const size_t cn = (sc->movers != NULL) ? sc->movers(t + dt, movers) : 0u;
+            wmap_clear(&cars);
+            for (size_t j = 0u; j < cn; j++) {
+                wmap_add_box(&cars, movers[j].x, movers[j].y, movers[j].heading,
+                             movers[j].length, movers[j].width);
+            }
+            const double a = at.theta + world_rad((double)i * res - 90.0);
+            ranges[i] = fmin(wmap_cast(&map, at.x, at.y, cos(a), sin(a)),
+                             wmap_cast(&cars, at.x, at.y, cos(a), sin(a)));
+        }
 
         char *cursor = line;
         const long index = strtol(cursor, &cursor, 10);
@@ -729,14 +1047,15 @@ static int cmd_decode(const char *scans_path, const char *name, const char *res_
     expect_true("decode: some scans", k > 0u);
     wmap_free(&map);
     wmap_free(&active);
+    wmap_free(&cars);
     return 0;
 }
 
 static int usage(void)
 {
-    (void)fputs("usage: world_check raycast | paths | scenarios |\n"
+    (void)fputs("usage: world_check raycast | paths | scenarios | timing |\n"
                 "       pairs TRUTH POSES N PERIOD SKIP | table2 TRUTH |\n"
-                "       decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP\n",
+                "       decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP [instant|lms]\n",
                 stderr);
     return 2;
 }
@@ -758,8 +1077,11 @@ int main(int argc, char **argv)
         rc = cmd_pairs(argv[2], argv[3], argv[4], argv[5], argv[6]);
     } else if (strcmp(cmd, "table2") == 0 && argc == 3) {
         rc = cmd_table2(argv[2]);
-    } else if (strcmp(cmd, "decode") == 0 && argc == 8) {
-        rc = cmd_decode(argv[2], argv[3], argv[4], argv[5], argv[6], argv[7]);
+    } else if (strcmp(cmd, "timing") == 0 && argc == 2) {
+        rc = cmd_timing();
+    } else if (strcmp(cmd, "decode") == 0 && (argc == 8 || argc == 9)) {
+        rc = cmd_decode(argv[2], argv[3], argv[4], argv[5], argv[6], argv[7],
+                        (argc == 9) ? argv[8] : "instant");
     } else {
         return usage();
     }

@@ -60,8 +60,9 @@ double wmap_clearance(const wmap_t *map, double x, double y);
 
 /* Appends to dst the primitives of src that a ray from (x, y) no longer
  * than radius could hit in the closed half-plane ahead of the unit
- * direction (fx, fy) (a little slack behind it). Casting a beam of that
- * half-plane on dst gives the same answer as on src up to radius. */
+ * direction (fx, fy) (a little slack behind it); (fx, fy) = (0, 0) keeps
+ * every direction. Casting a beam of that half-plane on dst gives the same
+ * answer as on src up to radius. */
 void wmap_select(const wmap_t *src, double x, double y, double fx, double fy, double radius,
                  wmap_t *dst);
 

@@ -34,6 +34,67 @@ void world_scan_cast(const wmap_t *active, wpose_t pose, unsigned count, double 
     }
 }
 
+unsigned world_scan_passes(unsigned count)
+{
+    return (count > 181u) ? 2u : 1u;
+}
+
+double world_beam_time(unsigned i, unsigned count)
+{
+    const unsigned passes = world_scan_passes(count);
+    const unsigned pass = i % passes;    /* which mirror turn */
+    const unsigned degrees = i / passes; /* into that turn's sweep */
+    return (double)pass / WORLD_MIRROR_HZ + (double)degrees / (WORLD_MIRROR_HZ * 360.0);
+}
+
+double world_beam_mean_time(unsigned count)
+{
+    double sum = 0.0;
+    for (unsigned i = 0u; i < count; i++) {
+        sum += world_beam_time(i, count);
+    }
+    return (count > 0u) ? sum / (double)count : 0.0;
+}
+
+void world_scan_cast_lms(const wscenario_t *sc, const wmap_t *static_map, unsigned k,
+                         double period, unsigned count, double res_deg, double max_range,
+                         wmap_t *active, wmap_t *scratch, double *ranges)
+{
+    static wpose_t poses[LMS_SCAN_MAX_VALUES];
+    static double offsets[LMS_SCAN_MAX_VALUES];
+    const double mean = world_beam_mean_time(count);
+    const wpose_t centre = sc->pose(k, period, 0.0);
+    double reach = 0.0;
+    for (unsigned i = 0u; i < count && i < LMS_SCAN_MAX_VALUES; i++) {
+        offsets[i] = world_beam_time(i, count) - mean;
+        poses[i] = sc->pose(k, period, offsets[i]);
+        reach = fmax(reach, hypot(poses[i].x - centre.x, poses[i].y - centre.y));
+    }
+    /* Every direction ((0, 0): no half-plane), out to the farthest beam
+     * pose plus the maximum range. */
+    const double radius = max_range + WORLD_CULL_SLACK + reach;
+    wmap_clear(active);
+    wmap_select(static_map, centre.x, centre.y, 0.0, 0.0, radius, active);
+    wmover_t movers[WORLD_MAX_MOVERS];
+    for (unsigned i = 0u; i < count && i < LMS_SCAN_MAX_VALUES; i++) {
+        const wpose_t p = poses[i];
+        const size_t mover_count =
+            (sc->movers != NULL)
+                ? sc->movers((double)k * period + offsets[i], movers)
+                : 0u;
+        wmap_clear(scratch);
+        for (size_t j = 0u; j < mover_count; j++) {
+            const wmover_t *m = &movers[j];
+            wmap_add_box(scratch, m->x, m->y, m->heading, m->length, m->width);
+        }
+        const double beam = p.theta + world_rad((double)i * res_deg - 90.0);
+        const double dx = cos(beam);
+        const double dy = sin(beam);
+        ranges[i] = fmin(wmap_cast(active, p.x, p.y, dx, dy),
+                         wmap_cast(scratch, p.x, p.y, dx, dy));
+    }
+}
+
 uint16_t world_range_word(double range, double noise, lms_unit_t unit, double max_range)
 {
     const bool mm = (unit == LMS_UNIT_MM);

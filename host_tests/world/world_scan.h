@@ -32,6 +32,18 @@
 #define WORLD_MAX_RANGE_CM 81.82
 #define WORLD_MAX_RANGE_MM 65.535
 
+#define WORLD_MIRROR_HZ 75.0 /* mirror turns per second */
+
+/* Passes (mirror turns) a scan of count values interlaces: 2 for more
+ * than 181 values, else 1. */
+unsigned world_scan_passes(unsigned count);
+
+/* t_i above, s: the time of value i after value 0 of a count-value scan. */
+double world_beam_time(unsigned i, unsigned count);
+
+/* The mean of world_beam_time over the count values, s. */
+double world_beam_mean_time(unsigned count);
+
 /* Fills active (cleared first) with what the scanner at pose can see up
  * to max_range: the static primitives ahead of it and the movers. */
 void world_scan_prepare(const wmap_t *static_map, const wmover_t *movers, size_t mover_count,
@@ -41,6 +53,17 @@ void world_scan_prepare(const wmap_t *static_map, const wmover_t *movers, size_t
  * INFINITY where nothing is hit. */
 void world_scan_cast(const wmap_t *active, wpose_t pose, unsigned count, double res_deg,
                      double *ranges);
+
+/* --timing lms: ranges of scan k (period s) of scenario sc over its
+ * static map, value i cast from the scanner's pose and the movers at
+ * k * period + (world_beam_time(i) - world_beam_mean_time(count)). The
+ * static map is culled once for the scan (all directions, the radius
+ * widened by the farthest beam pose) into active; movers go into
+ * scratch beam by beam. Same ranges as casting every value on the whole
+ * map up to max_range. */
+void world_scan_cast_lms(const wscenario_t *sc, const wmap_t *static_map, unsigned k,
+                         double period, unsigned count, double res_deg, double max_range,
+                         wmap_t *active, wmap_t *scratch, double *ranges);
 
 /* The value word of one beam: range (m, INFINITY for no hit) plus noise
  * (m), rounded to the nearest unit. A true range beyond max_range gives

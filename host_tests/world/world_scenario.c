@@ -7,14 +7,26 @@
  * bottom edge, buildings, a rotunda and a parking lot inside it, and a
  * plaza with a round fountain north of it. Nothing stands within 4 m of
  * the lane centre on the outside or 7.5 m on the inside.
+ *
+ * The other maps: the corridor, a round plaza (plaza), a bare 72-gon
+ * (ring), a corridor with sparse posts (sparse) and a highway lined with
+ * buildings (highway); sparse and highway place things irregularly from a
+ * fixed splitmix64 state, one draw per statement.
  */
 #include "world_scenario.h"
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "world_path.h"
+
+/* Time k period + dt, s; exactly k * period at dt = 0. */
+static double scene_time(unsigned k, double period, double dt)
+{
+    return (double)k * period + dt;
+}
 
 /* ------------------------------------------------------------------ */
 /* Building outlines with recessed facades. */
@@ -244,11 +256,13 @@ static double campus_s(const wpath_t *loop, double t)
     return campus_start(loop) + wprofile_distance(campus_knots, CAMPUS_KNOTS, t);
 }
 
-static wpose_t campus_pose(unsigned k, double period)
+/* At rest before t = 0 (a beam of scan 0 with --timing lms is measured
+ * then): the profile's distance is 0 there. */
+static wpose_t campus_pose(unsigned k, double period, double dt)
 {
     wpath_t loop;
     loop_path(&loop);
-    return wpath_pose(&loop, campus_s(&loop, (double)k * period), 0.0);
+    return wpath_pose(&loop, campus_s(&loop, scene_time(k, period, dt)), 0.0);
 }
 
 /* ------------------------------------------------------------------ */
@@ -298,15 +312,16 @@ static size_t busy_movers(double t, wmover_t *out)
 #define FAST_SWING 0.5       /* +- m per scan */
 #define FAST_PERIOD_SCANS 37.0
 
-static wpose_t fast_pose(unsigned k, double period)
+/* Defined per scan: between scans, u = k + dt / period is a continuous
+ * scan index (u = k exactly at dt = 0). */
+static wpose_t fast_pose(unsigned k, double period, double dt)
 {
-    (void)period;
     wpath_t loop;
     loop_path(&loop);
+    const double u = (double)k + dt / period;
     /* s(k + 1) - s(k) = STEP + SWING cos(2 pi (k + 1/2) / P) exactly. */
     const double amp = 0.5 * FAST_SWING / sin(WORLD_PI / FAST_PERIOD_SCANS);
-    const double s = FAST_STEP * (double)k +
-                     amp * sin(2.0 * WORLD_PI * (double)k / FAST_PERIOD_SCANS);
+    const double s = FAST_STEP * u + amp * sin(2.0 * WORLD_PI * u / FAST_PERIOD_SCANS);
     return wpath_pose(&loop, campus_start(&loop) + s, 0.0);
 }
 
@@ -316,9 +331,12 @@ static wpose_t fast_pose(unsigned k, double period)
 #define CIRCLE_R 13.5
 #define CIRCLE_SPEED 3.0
 
-static wpose_t circle_pose(unsigned k, double period)
+static wpose_t circle_pose(unsigned k, double period, double dt)
 {
-    const double phi = -0.5 * WORLD_PI + CIRCLE_SPEED * (double)k * period / CIRCLE_R;
+    /* Arc length v k period + v dt, in this order: at dt = 0 the bytes of
+     * the original per-scan form. */
+    const double arc = CIRCLE_SPEED * (double)k * period + CIRCLE_SPEED * dt;
+    const double phi = -0.5 * WORLD_PI + arc / CIRCLE_R;
     wpose_t p;
     p.x = PLAZA_X + CIRCLE_R * cos(phi);
     p.y = PLAZA_Y + CIRCLE_R * sin(phi);
@@ -329,15 +347,33 @@ static wpose_t circle_pose(unsigned k, double period)
 /* ------------------------------------------------------------------ */
 /* table2: one pair in the plaza. */
 
-static wpose_t table2_pose(unsigned k, double period)
+/* Scans 0 and 1 are the paper's poses exactly; in between and around them
+ * (--timing lms) the scanner moves at the constant twist that takes scan 0
+ * to scan 1 in one period: the pose at scan index u is first (+) exp(u xi),
+ * xi = log(rel) (SE(2) exponential: a circular arc, or a line for no turn). */
+static wpose_t table2_pose(unsigned k, double period, double dt)
 {
-    (void)period;
     const wpose_t first = {108.0, 96.0, world_rad(100.0)};
-    if (k == 0u) {
+    const wpose_t rel = {WORLD_TABLE2_DX, WORLD_TABLE2_DY, world_rad(WORLD_TABLE2_DEG)};
+    if (dt == 0.0 && k == 0u) {
         return first;
     }
-    const wpose_t rel = {WORLD_TABLE2_DX, WORLD_TABLE2_DY, world_rad(WORLD_TABLE2_DEG)};
-    return world_compose(first, rel);
+    if (dt == 0.0) {
+        return world_compose(first, rel);
+    }
+    const double u = (double)k + dt / period;
+    /* log: rel = (V(w) v, w) with V(w) = [[sin w, cos w - 1], [1 - cos w, sin w]] / w. */
+    const double w = rel.theta;
+    const double a = sin(w) / w;
+    const double b = (1.0 - cos(w)) / w;
+    const double det = a * a + b * b;
+    const double vx = (a * rel.x + b * rel.y) / det;
+    const double vy = (-b * rel.x + a * rel.y) / det;
+    const double uw = u * w;
+    const double ua = sin(uw) / w;
+    const double ub = (1.0 - cos(uw)) / w;
+    const wpose_t step = {ua * vx - ub * vy, ub * vx + ua * vy, uw};
+    return world_compose(first, step);
 }
 
 /* ------------------------------------------------------------------ */
@@ -357,14 +393,314 @@ static void build_corridor(wmap_t *m)
 }
 
 /* Speed 8 +- 2 m/s (period 10 s): s(t) = 8 t + (10 / pi)(1 - cos(2 pi t / 10)). */
-static wpose_t corridor_pose(unsigned k, double period)
+static wpose_t corridor_pose(unsigned k, double period, double dt)
 {
-    const double t = (double)k * period;
+    const double t = scene_time(k, period, dt);
     wpose_t p;
     p.x = 8.0 * t + (10.0 / WORLD_PI) * (1.0 - cos(2.0 * WORLD_PI * t / 10.0));
     p.y = 0.0;
     p.theta = 0.0;
     return p;
+}
+
+/* ------------------------------------------------------------------ */
+/* Irregular placement without rand(): splitmix64 steps from a fixed
+ * state per map, so every map is the same on every run and platform. */
+
+typedef struct {
+    uint64_t state;
+} pick_t;
+
+/* Uniform in [0, 1), 53 bits. */
+static double pick_unit(pick_t *p)
+{
+    p->state += 0x9E3779B97F4A7C15u;
+    uint64_t z = p->state;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
+    z ^= z >> 31;
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Uniform in [lo, hi). */
+static double pick_range(pick_t *p, double lo, double hi)
+{
+    return lo + (hi - lo) * pick_unit(p);
+}
+
+/* ------------------------------------------------------------------ */
+/* plaza: a round plaza 36 m across, driven around on a near-concentric
+ * circle. Centre (0, 0). */
+
+#define PLAZA_RING_R 18.0
+#define PLAZA_RING_SIDES 180u
+#define PLAZA_ISLAND_R 4.0
+#define PLAZA_DRIVE_X 0.5 /* centre of the drive, off the plaza's by 0.58 m */
+#define PLAZA_DRIVE_Y 0.3
+#define PLAZA_DRIVE_R 11.0
+#define PLAZA_SPEED 3.5  /* m/s, +- PLAZA_SWING over PLAZA_SWING_S */
+#define PLAZA_SWING 0.5
+#define PLAZA_SWING_S 8.0
+
+/* A regular polygon of sides sides, its corners on a circle of radius r
+ * about (cx, cy), the first at angle first (rad). */
+static void add_ring(wmap_t *m, double cx, double cy, double r, unsigned sides, double first)
+{
+    static poly_t p;
+    p.n = 0u;
+    for (unsigned j = 0u; j < sides; j++) {
+        const double a = first + 2.0 * WORLD_PI * (double)j / (double)sides;
+        poly_add(&p, cx + r * cos(a), cy + r * sin(a));
+    }
+    wmap_add_polyline(m, p.xy, p.n, 1);
+}
+
+static void build_plaza_ring(wmap_t *m)
+{
+    add_ring(m, 0.0, 0.0, PLAZA_RING_R, PLAZA_RING_SIDES, 0.0);
+    wmap_add_circle(m, 0.0, 0.0, PLAZA_ISLAND_R);
+    /* Kiosks: polar position (m, deg), size (m), heading (deg). Inside the
+     * drive at 6.5-7.5 m, outside it at 15-15.5 m. */
+    static const double kiosks[][5] = {
+        {15.2, 22.0, 2.2, 1.5, 112.0}, {7.0, 108.0, 1.4, 1.4, 30.0},
+        {15.0, 197.0, 2.0, 1.6, 10.0}, {15.4, 296.0, 1.8, 1.2, 26.0},
+        {6.8, 252.0, 1.6, 1.0, 75.0},
+    };
+    for (size_t j = 0u; j < sizeof kiosks / sizeof kiosks[0]; j++) {
+        const double *k = kiosks[j];
+        const double a = world_rad(k[1]);
+        wmap_add_box(m, k[0] * cos(a), k[0] * sin(a), world_rad(k[4]), k[2], k[3]);
+    }
+    /* Posts (radius 0.15 m): polar (m, deg). */
+    static const double posts[][2] = {
+        {8.5, 41.0},  {13.6, 77.0},  {16.4, 133.0}, {8.2, 168.0},
+        {13.8, 236.0}, {16.6, 331.0}, {13.7, 352.0},
+    };
+    for (size_t j = 0u; j < sizeof posts / sizeof posts[0]; j++) {
+        const double a = world_rad(posts[j][1]);
+        wmap_add_circle(m, posts[j][0] * cos(a), posts[j][0] * sin(a), 0.15);
+    }
+}
+
+/* Counter-clockwise from the south point of the drive, heading east;
+ * speed 3.5 + 0.5 sin(2 pi t / 8) m/s. */
+static wpose_t plaza_pose(unsigned k, double period, double dt)
+{
+    const double t = scene_time(k, period, dt);
+    const double w = 2.0 * WORLD_PI / PLAZA_SWING_S;
+    const double arc = PLAZA_SPEED * t + (PLAZA_SWING / w) * (1.0 - cos(w * t));
+    const double phi = -0.5 * WORLD_PI + arc / PLAZA_DRIVE_R;
+    wpose_t p;
+    p.x = PLAZA_DRIVE_X + PLAZA_DRIVE_R * cos(phi);
+    p.y = PLAZA_DRIVE_Y + PLAZA_DRIVE_R * sin(phi);
+    p.theta = world_wrap(phi + 0.5 * WORLD_PI);
+    return p;
+}
+
+/* ------------------------------------------------------------------ */
+/* ring: a bare 72-sided ring, radius 9 m, the scanner turning at its
+ * centre. */
+
+#define RING_R 9.0
+#define RING_SIDES 72u
+#define RING_RATE_DEG 18.75 /* deg/s: 0.5 deg per scan at 37.5 Hz */
+
+static void build_bare_ring(wmap_t *m)
+{
+    add_ring(m, 0.0, 0.0, RING_R, RING_SIDES, 0.0);
+}
+
+static wpose_t ring_pose(unsigned k, double period, double dt)
+{
+    wpose_t p;
+    p.x = 0.0;
+    p.y = 0.0;
+    p.theta = world_wrap(world_rad(RING_RATE_DEG) * scene_time(k, period, dt));
+    return p;
+}
+
+/* ------------------------------------------------------------------ */
+/* sparse: a featureless corridor 7 m wide with a 0.3 m post every 25-40 m. */
+
+#define SPARSE_HALF 3.5
+#define SPARSE_BACK (-50.0)
+#define SPARSE_END 900.0
+#define SPARSE_POST 0.3
+#define SPARSE_SPEED 6.5 /* m/s, +- SPARSE_SWING over SPARSE_SWING_S */
+#define SPARSE_SWING 1.5
+#define SPARSE_SWING_S 9.0
+
+static void build_sparse(wmap_t *m)
+{
+    wmap_add_segment(m, SPARSE_BACK, -SPARSE_HALF, SPARSE_END, -SPARSE_HALF);
+    wmap_add_segment(m, SPARSE_BACK, SPARSE_HALF, SPARSE_END, SPARSE_HALF);
+    wmap_add_segment(m, SPARSE_BACK, -SPARSE_HALF, SPARSE_BACK, SPARSE_HALF);
+    wmap_add_segment(m, SPARSE_END, -SPARSE_HALF, SPARSE_END, SPARSE_HALF);
+    /* Posts from x = 14 on, 25-40 m apart, on either side; two in five
+     * stand in the wall line (half of them out of the wall), the others
+     * 0.4-1.0 m clear of it. */
+    pick_t pick = {0x5A55E5u};
+    double x = 14.0;
+    while (x < SPARSE_END - 10.0) {
+        const double side = (pick_unit(&pick) < 0.5) ? 1.0 : -1.0;
+        const double in_line = pick_unit(&pick);
+        const double gap = pick_range(&pick, 0.4, 1.0);
+        const double y = (in_line < 0.4) ? SPARSE_HALF : SPARSE_HALF - 0.5 * SPARSE_POST - gap;
+        add_post(m, x, side * y, SPARSE_POST);
+        x += pick_range(&pick, 25.0, 40.0);
+    }
+}
+
+/* y = 0, heading east, speed 6.5 + 1.5 sin(2 pi t / 9) m/s. */
+static wpose_t sparse_pose(unsigned k, double period, double dt)
+{
+    const double t = scene_time(k, period, dt);
+    const double w = 2.0 * WORLD_PI / SPARSE_SWING_S;
+    wpose_t p;
+    p.x = SPARSE_SPEED * t + (SPARSE_SWING / w) * (1.0 - cos(w * t));
+    p.y = 0.0;
+    p.theta = 0.0;
+    return p;
+}
+
+/* ------------------------------------------------------------------ */
+/* highway: 10-30 m/s on a road with curves of up to 0.5 rad/s, lined with
+ * buildings, posts, parked cars and walls. */
+
+#define HIGHWAY_FROM (-80.0) /* m of road mapped before the start */
+#define HIGHWAY_TO 820.0     /* m of road mapped (the path goes straight on) */
+
+static void highway_path(wpath_t *path)
+{
+    const double quarter = 0.5 * WORLD_PI;
+    const wpiece_t pieces[9] = {
+        {100.0, 0.0},                          /* 30 m/s */
+        {60.0 * quarter, 1.0 / 60.0},          /* left, 30 m/s: 0.5 rad/s */
+        {97.75, 0.0},                          /* braking to 10 m/s */
+        {20.0 * quarter, -1.0 / 20.0},         /* right, 10 m/s: 0.5 rad/s */
+        {36.6, 0.0},                           /* accelerating */
+        {150.0 * world_rad(40.0), 1.0 / 150.0}, /* left, 23-30 m/s */
+        {15.3, 0.0},
+        {90.0 * world_rad(45.0), -1.0 / 90.0}, /* right, 30 m/s: 0.33 rad/s */
+        {300.0, 0.0},
+    };
+    const wpose_t start = {0.0, 0.0, 0.0};
+    wpath_init(path, start, pieces, 9u, false);
+}
+
+/* 30 m/s, braking to 10 m/s for the tight right turn, back to 30 m/s,
+ * then 30 m/s on (half-cosine ramps). */
+static const wknot_t highway_knots[] = {
+    {0.0, 30.0}, {7.0, 30.0}, {11.0, 10.0}, {14.5, 10.0}, {18.5, 30.0},
+};
+#define HIGHWAY_KNOTS (sizeof highway_knots / sizeof highway_knots[0])
+
+static wpose_t highway_pose(unsigned k, double period, double dt)
+{
+    wpath_t path;
+    highway_path(&path);
+    const double s = wprofile_distance(highway_knots, HIGHWAY_KNOTS, scene_time(k, period, dt));
+    return wpath_pose(&path, s, 0.0);
+}
+
+/* The mapped road sampled every 0.5 m, for the clearance of what stands
+ * beside it. */
+#define HIGHWAY_STEP 0.5
+#define HIGHWAY_SAMPLES 1801u /* (HIGHWAY_TO - HIGHWAY_FROM) / step + 1 */
+
+typedef struct {
+    wpath_t path;
+    double xy[2u * HIGHWAY_SAMPLES];
+} road_t;
+
+/* A box at arc length s of the road, lateral metres to its left (< 0:
+ * right), turned by turn (rad) from the road's heading; kept only when it
+ * stays clear metres away from the whole mapped road. */
+static void highway_box(wmap_t *m, const road_t *road, double s, double lateral, double turn,
+                        double length, double width, double clear)
+{
+    const wpose_t at = wpath_pose(&road->path, s, lateral);
+    const double reach = 0.5 * hypot(length, width);
+    wmap_t box;
+    wmap_init(&box);
+    wmap_add_box(&box, at.x, at.y, at.theta + turn, length, width);
+    bool ok = true;
+    for (size_t i = 0u; i < HIGHWAY_SAMPLES && ok; i++) {
+        const double x = road->xy[2u * i];
+        const double y = road->xy[2u * i + 1u];
+        if (hypot(x - at.x, y - at.y) - reach < clear) {
+            ok = wmap_clearance(&box, x, y) >= clear;
+        }
+    }
+    wmap_free(&box);
+    if (ok) {
+        wmap_add_box(m, at.x, at.y, at.theta + turn, length, width);
+    }
+}
+
+static void build_highway(wmap_t *m)
+{
+    static road_t road;
+    highway_path(&road.path);
+    for (size_t i = 0u; i < HIGHWAY_SAMPLES; i++) {
+        const wpose_t p = wpath_pose(&road.path, HIGHWAY_FROM + HIGHWAY_STEP * (double)i, 0.0);
+        road.xy[2u * i] = p.x;
+        road.xy[2u * i + 1u] = p.y;
+    }
+    /* One pick per statement: the order of the picks is the order of the
+     * statements (C leaves the order of arguments unspecified). */
+    pick_t pick = {0x4167u};
+    for (int side = -1; side <= 1; side += 2) {
+        const double dir = (double)side;
+        /* Front row: facades 9-14 m from the lane centre, 10-30 m long,
+         * 3-12 m gaps; one in four turned 10-25 deg. */
+        double s = HIGHWAY_FROM;
+        while (s < HIGHWAY_TO) {
+            const double len = pick_range(&pick, 10.0, 30.0);
+            const double depth = pick_range(&pick, 8.0, 14.0);
+            const double setback = pick_range(&pick, 9.0, 14.0);
+            const bool turned = pick_unit(&pick) < 0.25;
+            const double turn = turned ? dir * world_rad(pick_range(&pick, 10.0, 25.0)) : 0.0;
+            highway_box(m, &road, s + 0.5 * len, dir * (setback + 0.5 * depth), turn, len, depth,
+                        6.0);
+            s += len + pick_range(&pick, 3.0, 12.0);
+        }
+        /* Back row: 26-36 m out, 15-40 m long, 12 m deep. */
+        s = HIGHWAY_FROM;
+        while (s < HIGHWAY_TO) {
+            const double len = pick_range(&pick, 15.0, 40.0);
+            const double setback = pick_range(&pick, 26.0, 36.0);
+            highway_box(m, &road, s + 0.5 * len, dir * (setback + 6.0), 0.0, len, 12.0, 8.0);
+            s += len + pick_range(&pick, 5.0, 20.0);
+        }
+        /* Walls at 20-60 deg to the road, 17-22 m out, 6-14 m long. */
+        s = HIGHWAY_FROM + pick_range(&pick, 0.0, 40.0);
+        while (s < HIGHWAY_TO) {
+            const double angle = world_rad(pick_range(&pick, 20.0, 60.0));
+            const double turn = (pick_unit(&pick) < 0.5) ? angle : -angle;
+            const double out = pick_range(&pick, 17.0, 22.0);
+            const double len = pick_range(&pick, 6.0, 14.0);
+            highway_box(m, &road, s, dir * out, turn, len, 0.3, 6.0);
+            s += pick_range(&pick, 45.0, 80.0);
+        }
+        /* Posts 5-6.5 m out, every 15-35 m (0.3 m square). */
+        s = HIGHWAY_FROM + pick_range(&pick, 0.0, 15.0);
+        while (s < HIGHWAY_TO) {
+            const double out = pick_range(&pick, 5.0, 6.5);
+            highway_box(m, &road, s, dir * out, 0.0, 0.3, 0.3, 3.5);
+            s += pick_range(&pick, 15.0, 35.0);
+        }
+        /* Parked cars, 6 m out, in groups of 1-4 every 50-110 m. */
+        s = HIGHWAY_FROM + pick_range(&pick, 10.0, 50.0);
+        while (s < HIGHWAY_TO) {
+            const unsigned cars = 1u + (unsigned)(4.0 * pick_unit(&pick));
+            for (unsigned j = 0u; j < cars; j++) {
+                highway_box(m, &road, s + 6.5 * (double)j, dir * 6.0, 0.0, WORLD_CAR_LENGTH,
+                            WORLD_CAR_WIDTH, 4.0);
+            }
+            s += pick_range(&pick, 50.0, 110.0);
+        }
+    }
 }
 
 /* ------------------------------------------------------------------ */
@@ -382,6 +718,14 @@ static const wscenario_t scenarios[] = {
      build_campus, fast_pose, NULL},
     {"busy", "the campus drive with a car ahead and oncoming traffic (929 scans)", 929u, 0u,
      build_campus, campus_pose, busy_movers},
+    {"plaza", "round plaza, 36 m across, driven round on an 11 m circle at 3-4 m/s (600 scans)",
+     600u, 0u, build_plaza_ring, plaza_pose, NULL},
+    {"ring", "bare 72-sided ring, 9 m radius, the scanner turning at its centre (200 scans)",
+     200u, 0u, build_bare_ring, ring_pose, NULL},
+    {"sparse", "featureless 7 m corridor, a post every 25-40 m, at 5-8 m/s (700 scans)", 700u,
+     0u, build_sparse, sparse_pose, NULL},
+    {"highway", "10-30 m/s, curves up to 0.5 rad/s, buildings, cars, posts (900 scans)", 900u,
+     0u, build_highway, highway_pose, NULL},
 };
 
 size_t wscenario_count(void)

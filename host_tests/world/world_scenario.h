@@ -30,8 +30,13 @@ typedef struct {
     unsigned default_scans;
     unsigned required_scans;  /* 0 = any number; else exactly this many */
     void (*build_map)(wmap_t *map);
-    /* Scanner pose of scan k; the scan period is period seconds. */
-    wpose_t (*pose)(unsigned k, double period);
+    /* Scanner pose at time k * period + dt (s): dt seconds after scan k of
+     * a stream whose scan period is period (dt may be negative; --timing
+     * lms asks for every beam's own time). Every scenario is a smooth
+     * function of time. The time comes as a scan and an offset so that at
+     * dt = 0 a scenario defined per scan (fast) sees k exactly and one
+     * defined per second the same k * period as before. */
+    wpose_t (*pose)(unsigned k, double period, double dt);
     /* Moving vehicles at time t (s), at most WORLD_MAX_MOVERS; NULL: none. */
     size_t (*movers)(double t, wmover_t *out);
 } wscenario_t;

@@ -10,7 +10,10 @@
 #      pairs        truth consistent with the poses (SCANS, PERIOD, SKIP)
 #      stats        `lmsego stats` = SCANS scans, SCANS + 1 telegrams, no error
 #      decode       `lmsego scans` values = cast ranges (SCENARIO RES UNIT
-#                   MAX_RANGE SKIP; mm streams are read in mode 0F)
+#                   MAX_RANGE SKIP, TIMING instant (default) or lms; mm
+#                   streams are read in mode 0F)
+#      timing       ARGS with --timing lms: the stream differs from instant
+#                   timing's, the truth and the poses do not
 #      table2       the single truth line is the paper's Table 2 pair
 #      usage        lmsworld exits EXPECT_RC and writes no stream
 #      regen        outputs equal SHIPPED_DIR/NAME.{lms,pairs,tum}
@@ -119,8 +122,34 @@ elseif(MODE STREQUAL "decode")
     if(NOT rc STREQUAL "0")
         message(FATAL_ERROR "lmsego scans failed (${rc}): ${err}")
     endif()
+    if(NOT DEFINED TIMING)
+        set(TIMING instant)
+    endif()
     run_checked(${WORLD_CHECK} decode ${dir}/s.scans ${SCENARIO} ${RES} ${UNIT} ${MAX_RANGE}
-        ${SKIP})
+        ${SKIP} ${TIMING})
+elseif(MODE STREQUAL "timing")
+    generate(${dir}/a)
+    generate(${dir}/b --timing lms)
+    same(${dir}/a.lms ${dir}/b.lms ok)
+    if(ok)
+        message(FATAL_ERROR "--timing lms gave the same stream under motion")
+    endif()
+    foreach(ext pairs tum)
+        file(STRINGS ${dir}/a.${ext} a_lines REGEX "^[^#]")
+        file(STRINGS ${dir}/b.${ext} b_lines REGEX "^[^#]")
+        if(NOT a_lines STREQUAL b_lines)
+            message(FATAL_ERROR "--timing lms changed the ground truth (.${ext})")
+        endif()
+        file(STRINGS ${dir}/b.${ext} b_head LIMIT_COUNT 1)
+        if(NOT b_head MATCHES " --timing lms$")
+            message(FATAL_ERROR "the .${ext} header does not say --timing lms: ${b_head}")
+        endif()
+    endforeach()
+    file(SIZE ${dir}/a.lms a_size)
+    file(SIZE ${dir}/b.lms b_size)
+    if(NOT a_size EQUAL b_size)
+        message(FATAL_ERROR "--timing lms changed the stream's size: ${a_size} ${b_size}")
+    endif()
 elseif(MODE STREQUAL "table2")
     generate(${dir}/s)
     run_checked(${WORLD_CHECK} table2 ${dir}/s.pairs)
