@@ -169,6 +169,31 @@ static void keep_prediction_along(ego_pose_t *pose, const ego_pose_t *predicted,
     pose->y = fx_add_q16(pose->y, fx_mul_q16_q30(along, s));
 }
 
+/* The turn in Q16.16 rad of a binary angle difference, and back
+ * (BAM_PER_RAD_Q16_X128: 2^32 / 2 pi / 2^16, times 128). */
+#define BAM_PER_RAD_Q16_X128 1335088
+static int64_t rad_of_turn(int32_t turn)
+{
+    return (int64_t)turn * 128 / BAM_PER_RAD_Q16_X128;
+}
+
+/* The pose keeps its part across the weak direction and takes the
+ * prediction's along it, in the metric of ego_cov_weakest (the turn times
+ * the lever). */
+static void keep_prediction_on(ego_pose_t *pose, const ego_pose_t *predicted,
+                               const ego_weak_t *weak, fx_q16_16_t lever)
+{
+    const int64_t l = ego_cov_lever(lever);
+    const int64_t d[3] = {(int64_t)fx_sub_q16(predicted->x, pose->x),
+                          (int64_t)fx_sub_q16(predicted->y, pose->y),
+                          rad_of_turn((int32_t)(predicted->theta - pose->theta)) * l / 65536};
+    const int64_t along = (d[0] * weak->dir[0] + d[1] * weak->dir[1] + d[2] * weak->dir[2]) / 128;
+    pose->x = fx_sat_s32((int64_t)pose->x + along * weak->dir[0] / 128);
+    pose->y = fx_sat_s32((int64_t)pose->y + along * weak->dir[1] / 128);
+    const int64_t turn_q16 = (along * weak->dir[2] / 128) * 65536 / l;
+    pose->theta += (fx_bam32_t)(uint32_t)fx_sat_s32(turn_q16 * BAM_PER_RAD_Q16_X128 / 128);
+}
+
 /* Is one group too small to be judged on its own: under a fifth of the
  * points (a few points' fit is noise, not evidence). */
 static bool groups_lopsided(const ego_itcp_result_t *r)
@@ -882,7 +907,7 @@ static void search_begin(ego_state_t *state, uint32_t time_us, uint32_t dt,
 static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
                          const ego_itcp_result_t *r, bool have_prediction,
                          const ego_pose_t *predicted, fx_bam32_t main_direction,
-                         ego_output_t *out)
+                         fx_q16_16_t lever, ego_output_t *out)
 {
     if (st != EGO_ITCP_OK) {
         return false;
@@ -914,6 +939,28 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
         ego_cov_unmeasured_along(&out->cov, c, s);
     }
     out->flags |= r->converged ? 0u : EGO_FLAG_NOT_CONVERGED;
+    /* A prediction over a short interval is a motion; over a keyframe's
+     * seconds it is a guess that the measurement beats even where it is
+     * weak (taking it cost the aces log 1.8 % more failed pairs). */
+    const bool predicts = have_prediction && out->dt_us <= TRACK_INTERVAL_US;
+    if (r->weak.kind == EGO_WEAK_TRANSLATION || r->weak.kind == EGO_WEAK_COUPLED) {
+        /* A direction the matches barely see: the prediction's motion
+         * along it, if there is one (flagged and unmeasured either way). */
+        out->flags |= (r->weak.kind == EGO_WEAK_TRANSLATION) ? EGO_FLAG_WEAK_TRANSLATION
+                                                             : EGO_FLAG_WEAK_COUPLED;
+        if (predicts) {
+            keep_prediction_on(&out->pose, predicted, &r->weak, lever);
+        }
+        ego_cov_unmeasured_direction(&out->cov, &r->weak, lever);
+    }
+    if (r->weak.kind == EGO_WEAK_ROTATION && !r->weak_rotation) {
+        /* The eigen test's turn (the spacing test's is below). */
+        out->flags |= EGO_FLAG_WEAK_ROTATION;
+        if (predicts) {
+            out->pose.theta = predicted->theta;
+        }
+        ego_cov_unmeasured_rotation(&out->cov);
+    }
     if (r->weak_rotation) {
         /* Every surface faces the scanner: the turn is the prediction's,
          * if there is one (flagged either way). */
@@ -926,6 +973,67 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
     return true;
 }
 
+/* Reach of the dynamics check: longer intervals (keyframes) are not
+ * checked (1.5 g over a second is already 7 m). */
+#define DYNAMICS_MAX_DT_US 1000000u
+/* Standard deviations of the measurement (and of the one it is compared
+ * with) that an innovation may still be: 3.3 sigma (99.9 %) of a
+ * difference of two, sqrt(2) 3.3. */
+#define DYNAMICS_SIGMAS_X10 47
+
+static uint64_t variance_of(fx_q2_30_t v)
+{
+    return (v > 0) ? (uint64_t)v : 0u;
+}
+
+/* How far the translation over dt may move from ref's (over dt too)
+ * without being suspect: what the limit reaches in dt * span (span_us
+ * since ref was measured: the speed can keep changing at the limit) times
+ * dt, plus DYNAMICS_SIGMAS of the output's own uncertainty (Q16.16 m).
+ * The turn is not judged: a path's curvature may jump (a synthetic
+ * world's arcs; a robot spinning up), and a turn no scan supports shows
+ * in the weak-rotation test. */
+static bool within_reach(const ego_output_t *out, const ego_pose_t *ref, uint64_t span_us)
+{
+    const uint64_t dt = out->dt_us;
+    const uint64_t span = (span_us < DYNAMICS_MAX_DT_US) ? span_us : DYNAMICS_MAX_DT_US;
+    /* a [Q16 /s^2] * span * dt [us^2] / 10^12: below 2^24 * 2^40, fits. */
+    const uint64_t reach = (uint64_t)EGO_MAX_ACCELERATION * span * dt / 1000000000000ull;
+    const uint64_t var = variance_of(out->cov.xx) + variance_of(out->cov.yy); /* Q30 m^2 */
+    const uint64_t sigmas = (uint64_t)fx_sqrt_u64(var << 2) * DYNAMICS_SIGMAS_X10 / 10u; /* Q16 */
+    const int64_t ex = (int64_t)out->pose.x - ref->x;
+    const int64_t ey = (int64_t)out->pose.y - ref->y;
+    return fx_sqrt_u64((uint64_t)(ex * ex + ey * ey)) <= reach + sigmas;
+}
+
+/* A measured motion that a trusted one predicted (had_prediction) must be
+ * within one interval's reach of it; once it was not, the line and the
+ * next ones are suspect until a motion is back within reach of the last
+ * trusted one (the reach growing with the time since: what the vehicle
+ * could have done meanwhile). A wrong fit that slides away (cars moving
+ * with the vehicle holding it) says so instead of standing still
+ * silently. */
+static void judge_dynamics(ego_state_t *state, bool matched, bool had_prediction, uint32_t time_us,
+                           ego_output_t *out)
+{
+    if (!matched || out->dt_us == 0u || out->dt_us > DYNAMICS_MAX_DT_US) {
+        return;
+    }
+    if (state->suspect) {
+        const ego_pose_t ref = scale_motion(&state->trusted, state->trusted_dt_us, out->dt_us);
+        state->suspect = !within_reach(out, &ref, time_us - state->trusted_time_us);
+    } else if (had_prediction && state->motion_dt_us != 0u) {
+        const ego_pose_t ref = scale_motion(&state->motion, state->motion_dt_us, out->dt_us);
+        if (!within_reach(out, &ref, out->dt_us)) {
+            state->suspect = true;
+            state->trusted = state->motion;
+            state->trusted_dt_us = state->motion_dt_us;
+            state->trusted_time_us = state->last_time_us;
+        }
+    }
+    out->flags |= state->suspect ? EGO_FLAG_SUSPECT : 0u;
+}
+
 /* The scan in slot cur becomes the last one, with the motion out->pose
  * (over out->dt_us) from a tracked match, another match (matched) or
  * none. Whether that motion predicts the next one: a tracked motion does;
@@ -933,9 +1041,10 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
  * prediction misses once (a jump, a hard scan), the motion before it keeps
  * predicting; twice in a row, the motion has changed. */
 static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur, uint32_t time_us,
-                    const ego_output_t *out, bool tracked, bool matched,
+                    ego_output_t *out, bool tracked, bool matched,
                     const ego_pose_t *predicted, bool had_prediction)
 {
+    judge_dynamics(state, matched, had_prediction, time_us, out);
     const bool close = matched && close_to(&out->pose, predicted, params);
     if (!matched) {
         /* The line is the prediction: it says nothing new about the
@@ -968,6 +1077,21 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
     state->last_time_us = time_us;
 }
 
+/* Shares of the scan's points a search's answer must hold as inliers not
+ * to be suspect: half; 0.7 when its turn came from the sweep, not from a
+ * histogram's peak. Measured on the real logs' keyframes (docs/
+ * estimator.md, "Flags"): most answers below them are wrong minima,
+ * few right ones are. */
+#define SEARCH_SHARE_PERCENT 50u
+#define SWEPT_SHARE_PERCENT 70u
+
+static bool search_doubtful(const ego_search_t *se, const ego_output_t *out, uint16_t points)
+{
+    const uint32_t percent = (se->correlation[se->best_k] == 0) ? SWEPT_SHARE_PERCENT
+                                                                 : SEARCH_SHARE_PERCENT;
+    return !se->stage_tracked && 100u * (uint32_t)out->inliers < percent * (uint32_t)points;
+}
+
 static void finish_search(ego_state_t *state, const ego_params_t *params, bool recovered,
                           ego_output_t *out)
 {
@@ -984,11 +1108,16 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
                       confirms_prediction(params, se, &se->best) ||
                       half_accepted(params, &se->best);
     const bool matched = fits && output_match(params, se->best_status, &se->best, se->have_prediction,
-                                              &se->predicted, se->main_direction, out);
+                                              &se->predicted, se->main_direction,
+                                              state->slot[other_slot(state->last)].rms_range, out);
     if (matched) {
         out->correlation = se->correlation[se->best_k];
+        out->flags |= search_doubtful(se, out, state->slot[other_slot(state->last)].count)
+                          ? EGO_FLAG_SUSPECT
+                          : 0u;
     } else {
-        out->flags &= (uint16_t)~(EGO_FLAG_APERTURE | EGO_FLAG_NOT_CONVERGED | EGO_FLAG_WEAK_ROTATION);
+        out->flags &= (uint16_t)~(EGO_FLAG_APERTURE | EGO_FLAG_NOT_CONVERGED | EGO_FLAG_WEAK_ROTATION |
+                                  EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED);
         out->flags |= EGO_FLAG_PREDICTED | (fits ? EGO_FLAG_TOO_FEW_POINTS : 0u);
         out->pose = se->predicted;
     }
@@ -1088,14 +1217,16 @@ static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t
 
 /* Prepares the scan into slot cur with its tangents and AH histogram; false (nothing changed) when the budget cannot pay for it. */
 static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
-                    uint8_t cur)
+                    const ego_skew_t *skew, uint8_t cur)
 {
     /* Unbounded, a plain fit per point (on noisy real data the chords sort
      * too many points into the wrong group); under a budget, the chords,
      * and only as many beams as the budget lets tracking register. */
     const bool plain = ample(state);
     const uint32_t tangent_cost = plain ? EGO_COST_TFIT_PLAIN : EGO_COST_TFIT_CHORD;
-    const uint32_t per_point = EGO_COST_PREP_BEAM + tangent_cost + EGO_COST_AH_POINT;
+    const bool timed = skew->dt_us != 0u && (scan->beam_ns != 0u || ego_range_passes(scan) > 1u);
+    const uint32_t prep_cost = EGO_COST_PREP_BEAM + (timed ? EGO_COST_DESKEW_POINT : 0u);
+    const uint32_t per_point = prep_cost + tangent_cost + EGO_COST_AH_POINT;
     ego_prep_params_t prep = params->prep;
     const uint32_t valid = beams_with_range(scan, 1u);
     uint32_t step = 1u;
@@ -1103,6 +1234,17 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
         step = beams_per_point(state, scan, valid, per_point);
         const uint64_t first_step = ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u);
         const uint64_t spacing = first_step * step;
+        prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
+                                ? (fx_bam32_t)spacing
+                                : prep.beam_spacing;
+    }
+    if (!timed && ego_range_passes(scan) > 1u) {
+        /* No motion to de-skew an interlaced scan with (a cold start):
+         * one of its passes, a sweep measured at once, is the scan (at
+         * 30 m/s two passes 13.3 ms apart are two images 0.4 m apart). */
+        const uint32_t passes = ego_range_passes(scan);
+        step = ((step + passes - 1u) / passes) * passes;
+        const uint64_t spacing = (ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u)) * (uint64_t)step;
         prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
                                 ? (fx_bam32_t)spacing
                                 : prep.beam_spacing;
@@ -1116,8 +1258,8 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     }
     ego_scan_t *current = &state->slot[cur];
     STAGE(EGO_STAGE_PREPARE);
-    ego_work_spend(&state->work, kept * EGO_COST_PREP_BEAM + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED);
-    (void)ego_scan_prepare(scan, &prep, current);
+    ego_work_spend(&state->work, kept * prep_cost + (uint32_t)scan->count * EGO_COST_BEAM_SKIPPED);
+    (void)ego_scan_prepare_deskewed(scan, &prep, skew, current);
     STAGE(EGO_STAGE_TANGENTS);
     ego_work_spend(&state->work, kept * tangent_cost);
     if (plain) {
@@ -1197,7 +1339,8 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
                                                     st == EGO_ITCP_OK && half_accepted(params, &r));
         return (goes_on && ego_track_resume(&state->tracking)) ? TRACK_UNFINISHED : TRACK_FAILED;
     }
-    return output_match(params, st, &r, have_prediction, predicted, main_direction, out) ? TRACK_FOUND
+    return output_match(params, st, &r, have_prediction, predicted, main_direction,
+                        state->slot[cur].rms_range, out) ? TRACK_FOUND
                                                                                  : TRACK_FAILED;
 }
 
@@ -1315,7 +1458,8 @@ static track_outcome_t answer_if_along_confirms(const ego_state_t *state,
 {
     if (!along_confirms(first, along, loose) ||
         !output_match(params, EGO_ITCP_OK, &loose->r, false, predicted,
-                      state->main_direction[state->last], out)) {
+                      state->main_direction[state->last],
+                      state->slot[other_slot(state->last)].rms_range, out)) {
         return TRACK_FAILED;
     }
     *from_along = true;
@@ -1449,6 +1593,7 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->bridge = false;
     state->lost = false;
     state->along_predicted = false;
+    state->suspect = false;
 }
 
 /* The motion from the last scan to the prepared scan in slot cur, dt_us
@@ -1540,7 +1685,18 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     } else {
         const uint8_t cur = state->have_last ? other_slot(state->last) : state->last;
         const uint32_t dt = time_us - state->last_time_us;
-        if (!prepare(state, params, scan, cur)) {
+        /* De-skewed with the prior, else the last motion, if known over a
+         * short interval (a speed at the scan's time; a keyframe's is an
+         * average over seconds). */
+        ego_skew_t skew = {{0u, 0, 0}, 0u};
+        if (state->have_last && prior != NULL && dt <= TRACK_INTERVAL_US) {
+            skew.motion = *prior;
+            skew.dt_us = dt;
+        } else if (state->have_last && motion_known(state, dt) && state->motion_dt_us <= TRACK_INTERVAL_US) {
+            skew.motion = state->motion;
+            skew.dt_us = state->motion_dt_us;
+        }
+        if (!prepare(state, params, scan, &skew, cur)) {
             out->flags = EGO_FLAG_RECOVERING; /* skipped: the next motion spans it */
         } else if (!state->have_last || dt == 0u) {
             out->points = state->slot[cur].count;

@@ -95,6 +95,19 @@
                                           scan to the scan it started from (dt_us apart) */
 #define EGO_FLAG_WEAK_ROTATION 0x100u /* every surface faces the scanner (a ring around
                                           it): the rotation is not measured */
+#define EGO_FLAG_WEAK_TRANSLATION 0x200u /* the matches barely constrain a translation (a
+                                             corridor's length): the motion along it is
+                                             the prediction's; the covariance's largest
+                                             axis says which */
+#define EGO_FLAG_WEAK_COUPLED 0x400u     /* ... a translation with a turn (sliding along a
+                                             ring seen off its centre while turning) */
+#define EGO_FLAG_SUSPECT 0x800u          /* the match may be wrong: the translation changed
+                                             faster than a vehicle can (ego_config.h)
+                                             since the last trusted motion and has not
+                                             come back to within reach of it, or a
+                                             search's answer fits under half the scan
+                                             (under 0.7 with a turn no histogram
+                                             proposed) */
 
 typedef struct {
     ego_prep_params_t prep;
@@ -198,28 +211,35 @@ typedef struct {
     /* Private. */
     ego_scan_t slot[2];
     ego_hist_t hist[2];
-    uint8_t last;            /* slot of the last scan */
-    bool have_last;
     uint32_t last_time_us;
     ego_pose_t motion;       /* the motion that predicts the next, over motion_dt_us */
     uint32_t motion_dt_us;
+    ego_pose_t unfinished_predicted; /* se->track_predicted of the next search */
+    ego_pose_t before;       /* the motion before the last search, over before_dt_us
+                                (0: none): a start of the bridge after it */
+    uint32_t before_dt_us;
+    ego_pose_t trusted;      /* while suspect: the motion before the implausible
+                                change, over trusted_dt_us */
+    uint32_t trusted_dt_us;
+    uint32_t trusted_time_us; /* the time of the scan it ended at */
+    fx_bam32_t main_direction[2]; /* of each slot's histogram: its fullest bin */
+    uint32_t previous_time_us;
+    /* The small ones together (no padding between them: RAM is short). */
+    uint8_t last;            /* slot of the last scan */
+    bool have_last;
     bool predictable;        /* it came out close to its own prediction */
     uint8_t misses;          /* searches in a row whose result the prediction missed */
     bool bridge;             /* a search that took several scans just ended: the next
                                 interval is long, its prediction the search's motion */
-    ego_pose_t unfinished_predicted; /* se->track_predicted of the next search */
     bool along_predicted;    /* the last motion along the main direction was the
                                 prediction's (a corridor): the next scan looks
                                 for the speed first */
     bool lost;               /* the last search found nothing: the next one's first
                                 window is the widest, whatever the motion was */
-    ego_pose_t before;       /* the motion before the last search, over before_dt_us
-                                (0: none): a start of the bridge after it */
-    uint32_t before_dt_us;
     bool refined[2];         /* the slot has robust tangents and the search's histogram */
-    fx_bam32_t main_direction[2]; /* of each slot's histogram: its fullest bin */
     bool have_previous;      /* the time of the previous scan, for the budget */
-    uint32_t previous_time_us;
+    bool suspect;            /* the motion changed faster than a vehicle can since
+                                trusted (EGO_FLAG_SUSPECT until it is back) */
     ego_work_t work;         /* this scan's meter */
     union { /* one at a time */
         ego_track_run_t tracking;         /* the registration, or the coarse search's prober */

@@ -24,6 +24,14 @@
 #define EGO_TFIT_MAX_HALF_WINDOW 5u
 #endif
 
+/* What the vehicle can do (ego.c, EGO_FLAG_SUSPECT): a translation that
+ * changed faster than this since the last trusted one, beyond its own
+ * uncertainty, is suspect. 15 m/s^2, Q16.16 (1.5 g: no car brakes
+ * harder). A sensor carried by something nimbler sets its own. */
+#ifndef EGO_MAX_ACCELERATION
+#define EGO_MAX_ACCELERATION (15 * 65536)
+#endif
+
 _Static_assert(EGO_MAX_BEAMS >= 16u, "a scan needs some beams");
 _Static_assert(EGO_MAX_BEAMS <= 16384u, "16-bit indices, and ITCP's sums of 2^48 products below 2^62");
 

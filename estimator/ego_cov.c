@@ -342,3 +342,157 @@ void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weig
     cov->yy = (cov->yy < 0) ? 0 : cov->yy;
     cov->tt = (cov->tt < 0) ? 0 : cov->tt;
 }
+
+/* Lever arms below this are taken as this: a scan of a small room still
+ * turns its points by centimetres a degree. */
+#define MIN_LEVER ((int64_t)1 << 15) /* 0.5 m in Q16.16 */
+/* sin 20 deg and cos 20 deg in Q1.14: the weak direction's turn part
+ * below the one is a translation, above the other a rotation. */
+#define SIN_20_Q14 5604
+#define COS_20_Q14 15396
+
+fx_q16_16_t ego_cov_lever(fx_q16_16_t lever)
+{
+    return ((int64_t)lever > MIN_LEVER) ? lever : (fx_q16_16_t)MIN_LEVER;
+}
+
+/* v times a Q16 factor, rounded (|v| below 2^46, |f| at most 2^16). */
+static int64_t mul_q16(int64_t v, int64_t f)
+{
+    return fx_shr_round_s64(v * f, 16u);
+}
+
+static int64_t lever_of(fx_q16_16_t lever)
+{
+    return ego_cov_lever(lever);
+}
+
+void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, fx_q16_16_t lever,
+                     fx_q2_30_t min_share, ego_weak_t *weak)
+{
+    weak->kind = EGO_WEAK_NONE;
+    weak->dir[0] = 0;
+    weak->dir[1] = 0;
+    weak->dir[2] = 0;
+    const int64_t n = group[0].n + group[1].n;
+    if (n <= 3) {
+        return;
+    }
+    /* The means of J J^T over every match, the turn in lever units, all
+     * Q28: normals' products below 2^28, a normal times an arm below
+     * 2^37 (Q30, 128 m) and an arm squared below 2^46 (Q32) before the
+     * lever's division. */
+    int64_t g[2][6] = {{0, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0}};
+    for (unsigned k = 0u; k < 2u; k++) {
+        for (unsigned i = 0u; (i < 6u) && (group[k].n > 0); i++) {
+            g[k][i] = group[k].a[i] / group[k].n;
+        }
+    }
+    /* The main group's normals as the main direction's (n0 = (-s, c)):
+     * their scatter about it is the normals' noise, not a constraint
+     * along the main direction (noise gave a corridor's length a tenth of
+     * its width's information). Its translation rows and columns are
+     * projected on n0: P A P and P a_t with P = n0 n0^T. */
+    fx_q2_30_t sin_q30;
+    fx_q2_30_t cos_q30;
+    fx_sincos(main_direction, &sin_q30, &cos_q30);
+    const int64_t sn = fx_shr_round_s64(sin_q30, 14u); /* Q16: a product with an arm's
+                                                         2^37 stays below 2^54 */
+    const int64_t cs = fx_shr_round_s64(cos_q30, 14u);
+    const int64_t across = mul_q16(mul_q16(g[0][0], sn), sn) - 2 * mul_q16(mul_q16(g[0][1], sn), cs) +
+                           mul_q16(mul_q16(g[0][3], cs), cs);
+    const int64_t arm = mul_q16(g[0][4], cs) - mul_q16(g[0][2], sn);
+    g[0][0] = mul_q16(mul_q16(across, sn), sn);
+    g[0][1] = -mul_q16(mul_q16(across, sn), cs);
+    g[0][3] = mul_q16(mul_q16(across, cs), cs);
+    g[0][2] = -mul_q16(arm, sn);
+    g[0][4] = mul_q16(arm, cs);
+    int64_t m[6];
+    for (unsigned i = 0u; i < 6u; i++) {
+        m[i] = (g[0][i] * group[0].n + g[1][i] * group[1].n) / n;
+    }
+    const int64_t l = lever_of(lever);
+    const int64_t e00 = m[0];
+    const int64_t e01 = m[1];
+    const int64_t e11 = m[3];
+    const int64_t e02 = m[2] * ((int64_t)1 << 14) / l;
+    const int64_t e12 = m[4] * ((int64_t)1 << 14) / l;
+    const int64_t e22 = (m[5] * ((int64_t)1 << 14) / l) * ((int64_t)1 << 14) / l;
+    const int64_t trace = e00 + e11 + e22;
+    if (trace <= 0) {
+        return;
+    }
+    /* Scaled by a power of two so that the trace is in [2^18, 2^19)
+     * (every entry below 2^19 in magnitude; cofactors below 2^38, the
+     * determinant below 2^59). */
+    const int32_t up = 18 - ((int32_t)bits_u64((uint64_t)trace) - 1);
+    const int64_t a00 = times_pow2(e00, up);
+    const int64_t a01 = times_pow2(e01, up);
+    const int64_t a02 = times_pow2(e02, up);
+    const int64_t a11 = times_pow2(e11, up);
+    const int64_t a12 = times_pow2(e12, up);
+    const int64_t a22 = times_pow2(e22, up);
+    const int64_t scaled_trace = a00 + a11 + a22;
+    const int64_t c[9] = {a11 * a22 - a12 * a12, a02 * a12 - a01 * a22, a01 * a12 - a02 * a11,
+                          a02 * a12 - a01 * a22, a00 * a22 - a02 * a02, a01 * a02 - a00 * a12,
+                          a01 * a12 - a02 * a11, a01 * a02 - a00 * a12, a00 * a11 - a01 * a01};
+    const int64_t det = a00 * c[0] + a01 * c[1] + a02 * c[2];
+    const int64_t minors = c[0] + c[4] + c[8];
+    /* The smallest eigenvalue is det / minors when it is well below the
+     * others (the minors sum to the products of eigenvalue pairs), as it
+     * is wherever the test matters; its share of the trace in Q30. */
+    const int64_t smallest = (minors > 0 && det > 0) ? det / minors : 0;
+    if (scaled_trace <= 0 || smallest * ((int64_t)1 << 30) / scaled_trace >= (int64_t)min_share) {
+        return;
+    }
+    /* The adjugate is about minors v v^T: its column with the largest
+     * diagonal entry is v's direction (rescaled to 30 bits to square it). */
+    unsigned j = 0u;
+    for (unsigned k = 1u; k < 3u; k++) {
+        j = (c[4u * k] > c[4u * j]) ? k : j;
+    }
+    const int64_t col[3] = {c[j], c[3u + j], c[6u + j]};
+    uint64_t most = 0u;
+    for (unsigned k = 0u; k < 3u; k++) {
+        most = (magnitude(col[k]) > most) ? magnitude(col[k]) : most;
+    }
+    const int32_t down = (bits_u64(most) > 30u) ? (int32_t)bits_u64(most) - 30 : 0;
+    const int64_t v0 = times_pow2(col[0], -down);
+    const int64_t v1 = times_pow2(col[1], -down);
+    const int64_t v2 = times_pow2(col[2], -down);
+    const uint64_t norm = fx_sqrt_u64((uint64_t)(v0 * v0) + (uint64_t)(v1 * v1) + (uint64_t)(v2 * v2));
+    if (norm == 0u) {
+        /* No direction stands out (every entry 0): all of it is weak;
+         * call it the turn and the translation together. */
+        weak->kind = EGO_WEAK_COUPLED;
+        weak->dir[2] = 127;
+        return;
+    }
+    const int64_t t = (int64_t)1 << 14;
+    const int64_t unit[3] = {v0 * t / (int64_t)norm, v1 * t / (int64_t)norm, v2 * t / (int64_t)norm};
+    for (unsigned k = 0u; k < 3u; k++) {
+        const int64_t q = fx_shr_round_s64(unit[k], 7u); /* Q1.14 -> Q0.7 */
+        weak->dir[k] = (int8_t)((q > 127) ? 127 : (q < -127) ? -127 : q);
+    }
+    const int64_t turn = (unit[2] < 0) ? -unit[2] : unit[2];
+    weak->kind = (turn < SIN_20_Q14)   ? (uint8_t)EGO_WEAK_TRANSLATION
+                 : (turn > COS_20_Q14) ? (uint8_t)EGO_WEAK_ROTATION
+                                       : (uint8_t)EGO_WEAK_COUPLED;
+}
+
+void ego_cov_unmeasured_direction(ego_cov_t *cov, const ego_weak_t *weak, fx_q16_16_t lever)
+{
+    /* u = (dir_x, dir_y, dir_t / lever) in Q30 of SI units; u u^T added. */
+    const int64_t l = lever_of(lever);
+    const int64_t u[3] = {(int64_t)weak->dir[0] * ((int64_t)1 << 23), (int64_t)weak->dir[1] * ((int64_t)1 << 23),
+                          (int64_t)weak->dir[2] * ((int64_t)1 << 39) / l};
+    fx_q2_30_t *const entry[6] = {&cov->xx, &cov->xy, &cov->xt, &cov->yy, &cov->yt, &cov->tt};
+    static const unsigned row[6] = {0u, 0u, 0u, 1u, 1u, 2u};
+    static const unsigned col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
+    for (unsigned i = 0u; i < 6u; i++) {
+        /* Each factor below 2^31 + lever's 2^31 / 0.5 m: clamp the turn's. */
+        const int64_t a = fx_sat_s32(u[row[i]]);
+        const int64_t b = fx_sat_s32(u[col[i]]);
+        *entry[i] = fx_sat_s32((int64_t)*entry[i] + fx_shr_round_s64(a * b, 30u));
+    }
+}

@@ -67,6 +67,47 @@ typedef struct {
 void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weighted,
                       ego_cov_t *cov);
 
+/* Observability (issue 16): the direction of (dx, dy, dtheta) the
+ * matches constrain least, from their information sum J J^T with every
+ * match alike (the geometry, not eq. 10's weighting), the turn scaled by
+ * a lever (the scan's RMS range: a turn of 1 rad moves a typical point
+ * that far). Its share of the information, lambda_min / trace (1/3 for
+ * a scene that constrains every direction alike, 0 for one that does not
+ * constrain one at all), below min_share makes it weak. */
+typedef enum {
+    EGO_WEAK_NONE = 0,
+    EGO_WEAK_TRANSLATION = 1, /* a translation: a corridor's length */
+    EGO_WEAK_ROTATION = 2,    /* the turn: every surface faces the scanner */
+    EGO_WEAK_COUPLED = 3      /* a translation with a turn: sliding along a ring
+                                 seen from off its centre while turning */
+} ego_weak_kind_t;
+
+typedef struct {
+    uint8_t kind;      /* ego_weak_kind_t */
+    int8_t dir[3];     /* the weakest direction, a unit vector in Q0.7 of
+                          (x m, y m, theta rad * lever m), sign arbitrary
+                          (within 0.5 deg: RAM is short) */
+} ego_weak_t;
+
+/* The weakest direction of the groups' matches, group 0's normals taken
+ * as the main direction's (a tangent within the main tolerance of it is
+ * that direction, its scatter the normals' noise) (kind EGO_WEAK_NONE when
+ * its share is at least min_share, or with three matches or fewer).
+ * lever in Q16.16 m, at least 0.5 m is used. A direction within 20 deg
+ * of the translation plane is a translation, within 20 deg of the turn's
+ * axis a rotation, else coupled. Constant work (EGO_COST_COVARIANCE
+ * counts it). */
+/* The lever used: lever (Q16.16 m), at least 0.5 m. */
+fx_q16_16_t ego_cov_lever(fx_q16_16_t lever);
+
+void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, fx_q16_16_t lever,
+                     fx_q2_30_t min_share, ego_weak_t *weak);
+
+/* A motion whose part along the weak direction is not the measurement's
+ * (taken from the prediction): 1 m^2 (1 m of the lever in the turn) more
+ * variance along it, saturated. */
+void ego_cov_unmeasured_direction(ego_cov_t *cov, const ego_weak_t *weak, fx_q16_16_t lever);
+
 /* The covariance that says nothing was measured. */
 void ego_cov_unknown(ego_cov_t *cov);
 

@@ -110,6 +110,8 @@ typedef struct {
     fx_q16_16_t residual;    /* RMS match distance at the final pose, m */
     ego_cov_t cov;           /* of the pose (ego_cov.h; unknown until a registration
                                 finished with enough matches) */
+    ego_weak_t weak;         /* tracking: the direction the matches barely constrain
+                                (ego_cov_weakest), if any */
 } ego_itcp_result_t;
 
 typedef enum {

@@ -96,8 +96,34 @@ static bool is_occlusion(const ego_prep_params_t *p, const sensor_point_t *a,
     return lhs < scale * (int64_t)ab;
 }
 
+/* Binary angle per Q16.16 radian, times 128 (2^32 / 2 pi / 2^16). */
+#define BAM_PER_RAD_Q16_X128 1335088
+
 ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                    ego_scan_t *scan)
+{
+    return ego_scan_prepare_deskewed(in, params, NULL, scan);
+}
+
+/* The motion over a beam's offset tau (ns) from the scan's time: skew's
+ * scaled by tau / dt (translation Q16.16 m, turn binary angle). */
+typedef struct {
+    int64_t x;
+    int64_t y;
+    int32_t turn;
+} beam_motion_t;
+
+static beam_motion_t motion_at(const ego_skew_t *skew, int64_t tau_ns)
+{
+    const int64_t dt_ns = (int64_t)skew->dt_us * 1000;
+    const beam_motion_t m = {(int64_t)skew->motion.x * tau_ns / dt_ns,
+                             (int64_t)skew->motion.y * tau_ns / dt_ns,
+                             (int32_t)((int64_t)(int32_t)skew->motion.theta * tau_ns / dt_ns)};
+    return m;
+}
+
+ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const ego_prep_params_t *params,
+                                            const ego_skew_t *skew, ego_scan_t *scan)
 {
     if (in == NULL || params == NULL || scan == NULL) {
         return EGO_PREP_ERR_ARG;
@@ -105,6 +131,7 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
     scan->count = 0u;
     scan->beams = 0u;
     scan->spacing_arm = 0;
+    scan->rms_range = 0;
     scan->origin_x = in->origin_x;
     scan->origin_y = in->origin_y;
     if (!ego_range_check(in)) {
@@ -119,6 +146,10 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
                          : (uint32_t)(((uint64_t)params->beam_spacing + first_step / 2u) / first_step);
     beam_step = (beam_step < 1u) ? 1u : ((beam_step > 8u) ? 8u : beam_step);
 
+    /* De-skewing: a scan with beam times and a motion over a known
+     * interval; offsets from the scan's time within +-1 s (ego_range.h). */
+    const bool deskew = skew != NULL && skew->dt_us != 0u && (in->beam_ns != 0u || ego_range_passes(in) > 1u);
+    const int64_t mean_ns = deskew ? (int64_t)ego_range_mean_ns(in) : 0;
     const uint64_t scale_q48 = q48_per_unit(in->range_unit_um);
     sensor_point_t prev = {0, 0, 0};
     uint64_t range_sq = 0u; /* sum of r^2 / 2^16, Q16 m^2: < 2^46 a point */
@@ -145,6 +176,21 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
         const uint16_t i = scan->count;
         scan->x[i] = fx_add_q16(in->origin_x, here.x);
         scan->y[i] = fx_add_q16(in->origin_y, here.y);
+        if (deskew) {
+            /* The frame at the beam's time in the frame at the scan's: the
+             * beam turned by m.turn (the sensor's offset turned to first
+             * order: a 0.07 rad turn moves a 1 m offset 2.5 mm less),
+             * then moved by m. */
+            const beam_motion_t m = motion_at(skew, (int64_t)ego_range_beam_ns(in, (uint16_t)k) - mean_ns);
+            fx_q2_30_t ts;
+            fx_q2_30_t tc;
+            fx_sincos(beam + (fx_bam32_t)(uint32_t)m.turn, &ts, &tc);
+            const int64_t turn_q16 = (int64_t)m.turn * 128 / BAM_PER_RAD_Q16_X128;
+            const int64_t ox = (int64_t)in->origin_x - (turn_q16 * in->origin_y) / 65536;
+            const int64_t oy = (int64_t)in->origin_y + (turn_q16 * in->origin_x) / 65536;
+            scan->x[i] = fx_sat_s32(ox + fx_mul_q16_q30(r, tc) + m.x);
+            scan->y[i] = fx_sat_s32(oy + fx_mul_q16_q30(r, ts) + m.y);
+        }
         scan->bearing[i] = beam;
         scan->flags[i] = EGO_LINK_BREAK; /* until a next point links to it */
         scan->tangent[i] = 0u;
@@ -171,6 +217,7 @@ ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_pa
         const uint64_t step_bam = (uint64_t)first_step * beam_step; /* < 2^33 */
         const uint64_t spacing_q30 = (step_bam * 843314857u) >> 29;
         const uint64_t rms = fx_sqrt_u64((range_sq / scan->count) << 16); /* Q16.16 m */
+        scan->rms_range = (fx_q16_16_t)((rms < (uint64_t)INT32_MAX) ? rms : (uint64_t)INT32_MAX);
         const uint64_t arm = (rms * spacing_q30) >> 30;
         scan->spacing_arm = (fx_q16_16_t)((arm < (uint64_t)INT32_MAX) ? arm : (uint64_t)INT32_MAX);
     }

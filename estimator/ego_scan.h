@@ -29,6 +29,7 @@
 
 #include "ego_config.h"
 #include "ego_fx.h"
+#include "ego_pose.h"
 #include "ego_range.h"
 
 /* flags[i]: the link from point i to point i + 1. */
@@ -47,6 +48,8 @@ typedef struct {
     fx_q16_16_t spacing_arm;             /* the points' RMS range times the beam
                                             spacing, m: how far a turn of one
                                             spacing moves them (ego_track.c) */
+    fx_q16_16_t rms_range;               /* the points' RMS range, m: the lever of a
+                                            turn (ego_cov_weakest) */
     fx_q16_16_t x[EGO_MAX_POINTS];       /* vehicle frame, metres */
     fx_q16_16_t y[EGO_MAX_POINTS];
     fx_bam32_t bearing[EGO_MAX_POINTS];  /* beam direction from the origin,
@@ -78,9 +81,26 @@ typedef enum {
     EGO_PREP_ERR_LAYOUT = -2  /* the range scan fails ego_range_check */
 } ego_prep_status_t;
 
-/* Prepares scan from a range scan. */
+/* Prepares scan from a range scan, as measured at once. */
 ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                    ego_scan_t *scan);
+
+/* The motion a scan is de-skewed with: the vehicle moved by motion (in
+ * its frame at the start) over dt_us, at a constant rate. */
+typedef struct {
+    ego_pose_t motion;
+    uint32_t dt_us; /* 0: no de-skewing */
+} ego_skew_t;
+
+/* Prepares scan from a range scan whose beams were measured at their own
+ * times (ego_range.h): each point is moved to where the vehicle frame was
+ * at the scan's time, by skew's motion scaled to its beam's offset from
+ * it (the rotation exact, the translation and the sensor's offset to
+ * first order in the turn). A point's bearing stays its beam's (so the
+ * bearings still increase). Without beam times, or skew NULL or dt_us 0:
+ * ego_scan_prepare. */
+ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const ego_prep_params_t *params,
+                                            const ego_skew_t *skew, ego_scan_t *scan);
 
 /* True when points i and i + 1 (i + 1 < count) are in the same segment. */
 static inline bool ego_scan_linked(const ego_scan_t *scan, uint16_t i)

@@ -43,6 +43,7 @@ void ego_track_defaults(ego_track_params_t *params)
     params->inlier_distance = FX_Q16_16_C(0.10);
     params->main_tolerance = FX_BAM32_DEG_C(10.0);
     params->aperture_ratio = (fx_q2_30_t)(FX_Q2_30_ONE / 5);
+    params->weak_share = (fx_q2_30_t)(FX_Q2_30_ONE / 50);
     params->min_matches = 10u;
     params->weighted = true;
 }
@@ -651,6 +652,8 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
             memcpy(groups[k].a, g[k].a, sizeof groups[k].a);
         }
         ego_cov_estimate(groups, g[0].sum_sq + g[1].sum_sq, run->params->weighted, &result->cov);
+        ego_cov_weakest(groups, run->main_direction, run->current->rms_range, run->params->weak_share,
+                        &result->weak);
     }
     result->weak_rotation = run->weak_rotation;
     result->aperture = g[0].n > 0 &&

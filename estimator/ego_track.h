@@ -56,6 +56,9 @@ typedef struct {
     fx_bam32_t main_tolerance;        /* tangent this close to the main direction:
                                          main group; 10 deg (as ITCP's) */
     fx_q2_30_t aperture_ratio;        /* n_non / n_main below: aperture; 0.2 */
+    fx_q2_30_t weak_share;            /* the weakest direction's share of the
+                                         information below: weak (ego_cov_weakest);
+                                         0.02 */
     uint16_t min_matches;             /* fewer: the registration fails; 10 */
     bool weighted;                    /* the groups weigh equally (eq. 10); false: every
                                          match alike, plain ICP for comparison; true */

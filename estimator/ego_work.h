@@ -27,6 +27,8 @@ typedef struct {
 /* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
 #define EGO_COST_PREP_BEAM 360u          /* ego_scan_prepare, per beam kept ... */
 #define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
+#define EGO_COST_DESKEW_POINT 120u       /* de-skewing a kept beam (a sincos, six
+                                            products and divisions) */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
 #define EGO_COST_TFIT_CHORD 300u         /* one chord tangent (one point: a chord of 0.2 m
                                             over up to 4 neighbours a side) */

@@ -62,8 +62,10 @@ ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *param
     out->bearing_step = bearing_from_cdeg(layout.step_cdeg); /* bearing NULL: uniform */
     /* A partial scan (mode 2A) is one turn; a complete one at 0.5 (0.25)
      * deg is two (four). */
-    out->passes = lms->is_partial ? 1u : (uint8_t)(CDEG_PER_TURN_STEP / layout.step_cdeg);
-    out->pass_us = LMS_TURN_US;
-    out->beam_ns = LMS_DEGREE_NS;
+    if (params->timing == (uint8_t)EGO_LMS_TIMING_MIRROR) {
+        out->passes = lms->is_partial ? 1u : (uint8_t)(CDEG_PER_TURN_STEP / layout.step_cdeg);
+        out->pass_us = LMS_TURN_US;
+        out->beam_ns = LMS_DEGREE_NS;
+    }
     return EGO_LMS_OK;
 }

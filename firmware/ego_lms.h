@@ -23,15 +23,25 @@
 
 _Static_assert(EGO_MAX_BEAMS >= LMS_SCAN_MAX_VALUES, "every LMS layout must fit a range scan");
 
+/* When the values of a scan were measured. */
+typedef enum {
+    EGO_LMS_TIMING_MIRROR = 0, /* as the scanner measures them: its mirror's sweep,
+                                  0.5- and 0.25-deg scans interlacing turns (the
+                                  estimator de-skews them) */
+    EGO_LMS_TIMING_INSTANT = 1 /* all at once: a simulator's stream (lmsworld's
+                                  default) */
+} ego_lms_timing_t;
+
 typedef struct {
     fx_q16_16_t mount_x;   /* the scanner's origin in the vehicle frame, m */
     fx_q16_16_t mount_y;
     fx_bam32_t mount_theta; /* the scanner's 90-deg beam in the vehicle frame */
     uint8_t meas_mode;      /* lms_meas_mode_t the scanner measures in */
+    uint8_t timing;         /* ego_lms_timing_t */
 } ego_lms_params_t;
 
 /* Mounted at the vehicle's origin looking ahead, measuring mode 00 (the
- * scanner's factory setting). */
+ * scanner's factory setting), the mirror's timing. */
 void ego_lms_defaults(ego_lms_params_t *params);
 
 typedef enum {

@@ -4,6 +4,8 @@
  *   E = diag(e_t, e_t, e_r) the registration's damping, P = I (1 m, 1 rad). */
 #include "cov_ref.h"
 
+#include <math.h>
+
 #include <string.h>
 
 static void sym(const double s[6], double m[3][3])
@@ -110,6 +112,100 @@ bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weight
             }
             cov[i][j] = variance * c[i][j] + start;
         }
+    }
+    return true;
+}
+
+/* Eigenvalues (the diagonal after) and eigenvectors (columns of v) of the
+ * symmetric a by cyclic Jacobi rotations. */
+static void jacobi3(double a[3][3], double v[3][3])
+{
+    for (unsigned i = 0u; i < 3u; i++) {
+        for (unsigned j = 0u; j < 3u; j++) {
+            v[i][j] = (i == j) ? 1.0 : 0.0;
+        }
+    }
+    for (unsigned sweep = 0u; sweep < 50u; sweep++) {
+        for (unsigned p = 0u; p < 2u; p++) {
+            for (unsigned q = p + 1u; q < 3u; q++) {
+                if (fabs(a[p][q]) < 1e-300) {
+                    continue;
+                }
+                const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                const double t = ((theta >= 0.0) ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+                const double c = 1.0 / sqrt(t * t + 1.0);
+                const double s = t * c;
+                for (unsigned k = 0u; k < 3u; k++) { /* A <- A J */
+                    const double akp = a[k][p];
+                    const double akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (unsigned k = 0u; k < 3u; k++) { /* A <- J^T A */
+                    const double apk = a[p][k];
+                    const double aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for (unsigned k = 0u; k < 3u; k++) {
+                    const double vkp = v[k][p];
+                    const double vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+}
+
+bool cov_ref_weakest(const cov_ref_group_t group[2], double main_rad, double lever_m,
+                     double *share, double *next_share, double dir[3])
+{
+    const double n = group[0].n + group[1].n;
+    if (n <= 3.0) {
+        return false;
+    }
+    const double l = (lever_m > 0.5) ? lever_m : 0.5;
+    const double nx = -sin(main_rad);
+    const double ny = cos(main_rad);
+    double m[3][3] = {{0.0}};
+    for (unsigned g = 0u; g < 2u; g++) {
+        const double *a = group[g].a;
+        double e[3][3] = {{a[0], a[1], a[2]}, {a[1], a[3], a[4]}, {a[2], a[4], a[5]}};
+        if (g == 0u) { /* P A P on the translation, P a_t */
+            const double across = nx * nx * e[0][0] + 2.0 * nx * ny * e[0][1] + ny * ny * e[1][1];
+            const double arm = nx * e[0][2] + ny * e[1][2];
+            e[0][0] = across * nx * nx;
+            e[0][1] = e[1][0] = across * nx * ny;
+            e[1][1] = across * ny * ny;
+            e[0][2] = e[2][0] = arm * nx;
+            e[1][2] = e[2][1] = arm * ny;
+        }
+        for (unsigned i = 0u; i < 3u; i++) {
+            for (unsigned j = 0u; j < 3u; j++) {
+                const double scale = ((i == 2u) ? 1.0 / l : 1.0) * ((j == 2u) ? 1.0 / l : 1.0);
+                m[i][j] += e[i][j] * scale / n;
+            }
+        }
+    }
+    const double trace = m[0][0] + m[1][1] + m[2][2];
+    if (trace <= 0.0) {
+        return false;
+    }
+    double v[3][3];
+    jacobi3(m, v);
+    unsigned k = 0u;
+    for (unsigned i = 1u; i < 3u; i++) {
+        k = (m[i][i] < m[k][k]) ? i : k;
+    }
+    *share = m[k][k] / trace;
+    double next = INFINITY;
+    for (unsigned i = 0u; i < 3u; i++) {
+        next = (i != k && m[i][i] < next) ? m[i][i] : next;
+    }
+    *next_share = next / trace;
+    for (unsigned i = 0u; i < 3u; i++) {
+        dir[i] = v[i][k];
     }
     return true;
 }

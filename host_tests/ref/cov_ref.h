@@ -19,4 +19,13 @@ typedef struct {
 bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weighted,
                       double cov[3][3]);
 
+/* The weakest direction of ego_cov_weakest in doubles, exactly: the main
+ * group's normals projected on the main direction's normal (main_rad: the
+ * main direction, the tangent), every match alike, the turn times lever_m
+ * (at least 0.5 m); the eigenvector of the smallest eigenvalue (Jacobi
+ * rotations), that eigenvalue over the trace and the next one's. False
+ * with three matches or fewer. */
+bool cov_ref_weakest(const cov_ref_group_t group[2], double main_rad, double lever_m,
+                     double *share, double *next_share, double dir[3]);
+
 #endif /* COV_REF_H */

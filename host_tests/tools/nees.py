@@ -13,14 +13,85 @@ corridor's length is the prediction's) and the others. Prints one line of
 each; --max-mean and --max-outside fail (exit 1) above them (not-aperture
 lines). --ref-sigma M,DEG adds the truth's own error (a reference that is
 itself an estimate, the real logs' corrected poses: that standard deviation
-in x, y and heading) to every covariance. Pure Python: no numpy."""
+in x, y and heading) to every covariance.
+
+Silent failures (issue 16): a line that claims a motion (one interval, or a
+recovered line's span from the last answered scan) whose error exceeds
+--fail-m or --fail-deg (0.10 m, 1 deg) must carry a trust flag (TRUST:
+aperture, low correlation, too few points, predicted, weak
+rotation, translation or coupled, ambiguous) or a covariance whose 99.9 %
+ellipse (NEES 16.27) holds the error; one that does neither is silent.
+Prints their counts (and each silent pair with --list); --max-silent fails
+above it. Pure Python: no numpy."""
 import argparse
 import csv
 import math
 import sys
 
 CHI2_3_99 = 11.345
+CHI2_3_999 = 16.266
 SKIP = 1 | 32 | 64 | 128  # first, predicted, recovering, recovered
+FIRST, RECOVERING, RECOVERED = 1, 64, 128
+TRUST = 2 | 8 | 16 | 32 | 0x100 | 0x200 | 0x400 | 0x800
+
+
+def compose(a, b):
+    """Pose b (in a's frame) after a: the SE(2) product."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
+
+
+def span(truth, i, j):
+    """Scan j in the frame of scan i from the consecutive pairs, or None."""
+    pose = (0.0, 0.0, 0.0)
+    for k in range(i, j):
+        step = truth.get((k, k + 1))
+        if step is None:
+            return None
+        pose = compose(pose, step)
+    return pose
+
+
+def silent_failures(truth, rows, fail_m, fail_deg, ref):
+    """(failed, flagged, within the 99.9 % ellipse, [silent pairs])."""
+    failed, flagged, covered, silent = 0, 0, 0, []
+    last = None  # the last scan with an answer (the next motion starts there)
+    for r in rows:
+        flags, scan = int(r['flags']), int(r['scan'])
+        if flags & FIRST:
+            last = scan
+            continue
+        if flags & RECOVERING:
+            last = scan - 1 if last is None else last
+            continue
+        start = last if (flags & RECOVERED) and last is not None else scan - 1
+        last = scan
+        t = span(truth, start, scan)
+        if t is None:
+            continue
+        e = (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
+             (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
+        if math.hypot(e[0], e[1]) <= fail_m and abs(math.degrees(e[2])) <= fail_deg:
+            continue
+        failed += 1
+        if flags & TRUST:
+            flagged += 1
+            continue
+        cells = [r['cov_' + k] for k in ('xx', 'xy', 'xt', 'yy', 'yt', 'tt')]
+        if any('inf' in x for x in cells):
+            covered += 1
+            continue
+        c = [float(x) for x in cells]
+        c[0] += ref[0]
+        c[3] += ref[0]
+        c[5] += ref[1]
+        n = nees(c, e)
+        if n is None or n <= CHI2_3_999:
+            covered += 1
+        else:
+            silent.append('%d-%d: %.3f m %.2f deg flags %d NEES %.0f' %
+                          (start, scan, math.hypot(e[0], e[1]), math.degrees(e[2]), flags, n))
+    return failed, flagged, covered, silent
 
 
 def read_truth(path):
@@ -63,6 +134,10 @@ def main():
     ap.add_argument('--max-mean', type=float)
     ap.add_argument('--max-outside', type=float, help='percent')
     ap.add_argument('--ref-sigma', help='M,DEG: the truth\'s own standard deviation')
+    ap.add_argument('--fail-m', type=float, default=0.10)
+    ap.add_argument('--fail-deg', type=float, default=1.0)
+    ap.add_argument('--max-silent', type=int)
+    ap.add_argument('--list', action='store_true', help='print each silent failure')
     a = ap.parse_args()
     ref = [0.0, 0.0]
     if a.ref_sigma:
@@ -71,27 +146,34 @@ def main():
     truth = read_truth(a.truth)
     plain, aperture = [], []
     with open(a.csv) as f:
-        for r in csv.DictReader(f):
-            flags = int(r['flags'])
-            scan = int(r['scan'])
-            t = truth.get((scan - 1, scan))
-            cells = [r['cov_' + k] for k in ('xx', 'xy', 'xt', 'yy', 'yt', 'tt')]
-            if flags & SKIP or t is None or any('inf' in x for x in cells):
-                continue
-            e = (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
-                 (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
-            c = [float(x) for x in cells]
-            c[0] += ref[0]
-            c[3] += ref[0]
-            c[5] += ref[1]
-            n = nees(c, e)
-            if n is not None:
-                (aperture if flags & 2 else plain).append(n)
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        flags = int(r['flags'])
+        scan = int(r['scan'])
+        t = truth.get((scan - 1, scan))
+        cells = [r['cov_' + k] for k in ('xx', 'xy', 'xt', 'yy', 'yt', 'tt')]
+        if flags & SKIP or t is None or any('inf' in x for x in cells):
+            continue
+        e = (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
+             (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
+        c = [float(x) for x in cells]
+        c[0] += ref[0]
+        c[3] += ref[0]
+        c[5] += ref[1]
+        n = nees(c, e)
+        if n is not None:
+            (aperture if flags & 2 else plain).append(n)
     line, mean, outside = summary('measured', plain)
     print(line)
     print(summary('aperture', aperture)[0])
+    bad, flagged, covered, silent = silent_failures(truth, rows, a.fail_m, a.fail_deg, ref)
+    print('failures (> %.2f m or %.1f deg): %d, flagged %d, within the 99.9 %% ellipse %d, '
+          'silent %d of %d lines' % (a.fail_m, a.fail_deg, bad, flagged, covered, len(silent), len(rows)))
+    for line in silent if a.list else []:
+        print('  silent ' + line)
     failed = ((a.max_mean is not None and mean > a.max_mean) or
-              (a.max_outside is not None and outside > a.max_outside))
+              (a.max_outside is not None and outside > a.max_outside) or
+              (a.max_silent is not None and len(silent) > a.max_silent))
     if failed:
         print('BOUND EXCEEDED', file=sys.stderr)
         return 1

@@ -67,6 +67,7 @@ const ego_range_scan_t *synth_range(const lms_scan_t *lms)
     static ego_range_scan_t range;
     ego_lms_params_t params;
     ego_lms_defaults(&params);
+    params.timing = (uint8_t)EGO_LMS_TIMING_INSTANT; /* cast at once */
     work = *lms;
     return (ego_lms_to_range(&work, &params, &range) == EGO_LMS_OK) ? &range : NULL;
 }

@@ -18,7 +18,8 @@ void synth_scan(const synth_wall_t *walls, unsigned nwalls, double x, double y, 
                 unsigned count, lms_unit_t unit, lms_scan_t *out);
 
 /* A copy of lms through the LMS adapter with its defaults (firmware/
- * ego_lms.h: mode 00, no mount offset), as a static range scan that the
+ * ego_lms.h: mode 00, no mount offset) but measured at once (as cast), as
+ * a static range scan that the
  * next call overwrites; NULL when the adapter refuses it. */
 const ego_range_scan_t *synth_range(const lms_scan_t *lms);
 

@@ -146,6 +146,109 @@ static void test_cov_corridor_length_is_not_measured(void)
     assert_close(want, &got, "corridor");
 }
 
+/* The weak direction (ego_cov_weakest) against its oracle on random
+ * scenes whose weakest direction stands out (the next eigenvalue at least
+ * four times larger: where det / minors is the smallest eigenvalue): the
+ * same direction within the Q0.7 resolution, the same kind, and weak
+ * exactly when the share is below the threshold (away from it by a
+ * factor of two). */
+static void test_cov_weakest_matches_its_oracle(void)
+{
+    uint32_t seed = 77u;
+    unsigned compared = 0u;
+    for (unsigned trial = 0u; trial < 2000u; trial++) {
+        matches_t m;
+        memset(&m, 0, sizeof m);
+        const unsigned n0 = tu_rand_range(&seed, 20u, 300u);
+        const unsigned n1 = tu_rand_range(&seed, 0u, 60u);
+        const double reach = (double)tu_rand_range(&seed, 1u, 40u);
+        const double main_rad = (double)tu_rand(&seed) / 4294967296.0 * 3.14159;
+        const double spread1 = (double)tu_rand_range(&seed, 1u, 100u) / 100.0 * 3.14159;
+        for (unsigned i = 0u; i < n0 + n1; i++) {
+            const unsigned g = (i < n0) ? 0u : 1u;
+            const double spread = (g == 0u) ? 0.3 : spread1;
+            const double normal = main_rad + 1.5707963 + ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * spread;
+            const double arm = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 2.0 * reach;
+            add_match(&m, g, normal, arm, 0.01);
+        }
+        const double lever = (double)tu_rand_range(&seed, 1u, 30u);
+        double share = 0.0;
+        double next = 0.0;
+        double dir[3];
+        TEST_ASSERT_TRUE(cov_ref_weakest(m.ref, main_rad, lever, &share, &next, dir));
+        const fx_bam32_t main_bam = (fx_bam32_t)(uint32_t)lround(main_rad / 6.283185307179586 * 4294967296.0);
+        ego_weak_t weak;
+        ego_cov_weakest(m.fx, main_bam, (fx_q16_16_t)lround(lever * 65536.0), FX_Q2_30_ONE / 50, &weak);
+        char msg[200];
+        (void)snprintf(msg, sizeof msg, "trial %u: share %.4f dir %.3f %.3f %.3f, fixed kind %u dir %d %d %d",
+                       trial, share, dir[0], dir[1], dir[2], weak.kind, weak.dir[0], weak.dir[1], weak.dir[2]);
+        if (share > 0.04) {
+            TEST_ASSERT_EQUAL_UINT8_MESSAGE(EGO_WEAK_NONE, weak.kind, msg);
+        }
+        if (share >= 0.01 || next < 4.0 * share) {
+            continue;
+        }
+        TEST_ASSERT_TRUE_MESSAGE(weak.kind != EGO_WEAK_NONE, msg);
+        const double dot = (dir[0] * weak.dir[0] + dir[1] * weak.dir[1] + dir[2] * weak.dir[2]) / 128.0;
+        TEST_ASSERT_TRUE_MESSAGE(fabs(dot) > 0.99, msg);
+        const double turn = fabs(dir[2]);
+        if (fabs(turn - 0.342) > 0.02 && fabs(turn - 0.940) > 0.02) {
+            const uint8_t kind = (turn < 0.342) ? EGO_WEAK_TRANSLATION : (turn > 0.940) ? EGO_WEAK_ROTATION
+                                                                                         : EGO_WEAK_COUPLED;
+            TEST_ASSERT_EQUAL_UINT8_MESSAGE(kind, weak.kind, msg);
+        }
+        compared++;
+    }
+    char seen[64];
+    (void)snprintf(seen, sizeof seen, "%u weak scenes compared", compared);
+    TEST_MESSAGE(seen);
+    TEST_ASSERT_TRUE(compared > 100u);
+}
+
+/* The three kinds from their scenes: a corridor's length (translation
+ * along it), a ring around the scanner (the turn), a ring seen from off
+ * its centre (the two together); a room constrains everything. */
+static void test_cov_weakest_kinds(void)
+{
+    ego_weak_t weak;
+    matches_t m;
+    uint32_t seed = 5u;
+    /* Corridor along x: every normal across it (main direction 0). */
+    memset(&m, 0, sizeof m);
+    for (unsigned i = 0u; i < 200u; i++) {
+        const double arm = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 40.0;
+        add_match(&m, 0u, (i % 2u == 0u) ? 1.5707963 : -1.5707963, arm, 0.01);
+    }
+    ego_cov_weakest(m.fx, 0u, FX_Q16_16_C(10.0), FX_Q2_30_ONE / 50, &weak);
+    TEST_ASSERT_EQUAL_UINT8(EGO_WEAK_TRANSLATION, weak.kind);
+    TEST_ASSERT_TRUE(weak.dir[0] > 125 || weak.dir[0] < -125); /* along x */
+    /* Ring around the scanner: normals radial, no lever arm. */
+    memset(&m, 0, sizeof m);
+    for (unsigned i = 0u; i < 200u; i++) {
+        add_match(&m, 1u, 6.283185 * i / 200.0, 0.0, 0.01);
+    }
+    ego_cov_weakest(m.fx, 0u, FX_Q16_16_C(9.0), FX_Q2_30_ONE / 50, &weak);
+    TEST_ASSERT_EQUAL_UINT8(EGO_WEAK_ROTATION, weak.kind);
+    /* A ring of radius 9 seen from 6 m off its centre: the arms are
+     * 6 sin(phi), the turn trades against a sideways slide (3 m off it,
+     * the weak direction is 18 deg from the turn: a rotation). */
+    memset(&m, 0, sizeof m);
+    for (unsigned i = 0u; i < 200u; i++) {
+        const double phi = 6.283185 * i / 200.0;
+        add_match(&m, 1u, phi, 6.0 * sin(phi), 0.01);
+    }
+    ego_cov_weakest(m.fx, 0u, FX_Q16_16_C(9.0), FX_Q2_30_ONE / 50, &weak);
+    TEST_ASSERT_EQUAL_UINT8(EGO_WEAK_COUPLED, weak.kind);
+    /* A room: four walls, arms of metres. */
+    memset(&m, 0, sizeof m);
+    for (unsigned i = 0u; i < 200u; i++) {
+        const double arm = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 8.0;
+        add_match(&m, (i % 4u < 2u) ? 0u : 1u, 1.5707963 * (i % 4u), arm, 0.01);
+    }
+    ego_cov_weakest(m.fx, 0u, FX_Q16_16_C(4.0), FX_Q2_30_ONE / 50, &weak);
+    TEST_ASSERT_EQUAL_UINT8(EGO_WEAK_NONE, weak.kind);
+}
+
 static void test_cov_unknown_without_enough_matches(void)
 {
     matches_t m;
@@ -215,5 +318,7 @@ int main(void)
     RUN_TEST(test_cov_unknown_without_enough_matches);
     RUN_TEST(test_cov_saturates);
     RUN_TEST(test_cov_unmeasured_parts);
+    RUN_TEST(test_cov_weakest_matches_its_oracle);
+    RUN_TEST(test_cov_weakest_kinds);
     return UNITY_END();
 }

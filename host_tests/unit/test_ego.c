@@ -245,6 +245,43 @@ static void test_ego_first_scan_then_motion_and_velocities(void)
     TEST_ASSERT_TRUE_MESSAGE(fabs(rad_of(out.pose.theta) - 1.0 * FX_HOST_PI / 180.0) < 0.0005, msg);
 }
 
+/* A motion that changes faster than a vehicle can is suspect (a fit that
+ * slid onto cars moving with the vehicle stands still silently
+ * otherwise): 5 m/s through the room, then the same scan over and over
+ * (the fit says: stopped within 40 ms, 12.5 g). Suspect from that line
+ * on, while a stop is out of reach of 1.5 g since the last trusted
+ * motion (5 m/s / 15 m/s^2: 0.33 s); then the standstill is trusted. */
+static void test_ego_implausible_change_is_suspect_until_within_reach(void)
+{
+    ego_defaults(&g_params);
+    g_params.work_per_s = 0u;
+    ego_reset(&g_state);
+    uint32_t t = 1000000u;
+    double x = 0.0;
+    ego_output_t out = step(x, 0.0, 0.0, t);
+    for (unsigned k = 0u; k < 10u; k++) {
+        x += 0.2;
+        t += 40000u;
+        out = step(x, 0.0, 0.0, t);
+        TEST_ASSERT_EQUAL_HEX16(0u, out.flags & EGO_FLAG_SUSPECT);
+    }
+    unsigned suspect = 0u;
+    for (unsigned k = 0u; k < 20u; k++) {
+        t += 40000u;
+        out = step(x, 0.0, 0.0, t);
+        TEST_ASSERT_TRUE(fabs(fx_q16_16_to_double(out.pose.x)) < 0.003); /* it says: stopped */
+        if (k == 0u) {
+            TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_SUSPECT, out.flags & EGO_FLAG_SUSPECT);
+        }
+        suspect += ((out.flags & EGO_FLAG_SUSPECT) != 0u) ? 1u : 0u;
+        TEST_ASSERT_TRUE(suspect == k + 1u || (out.flags & EGO_FLAG_SUSPECT) == 0u);
+    }
+    /* Within reach after 0.33 s plus the lines' own doubt: 8 to 10 lines. */
+    char msg[48];
+    (void)snprintf(msg, sizeof msg, "%u suspect lines", suspect);
+    TEST_ASSERT_TRUE_MESSAGE(suspect >= 7u && suspect <= 10u, msg);
+}
+
 static void test_ego_large_first_motion_needs_the_coarse_search(void)
 {
     ego_defaults(&g_params);
@@ -792,6 +829,7 @@ int main(void)
     RUN_TEST(test_track_trims_its_radius);
     RUN_TEST(test_track_resumes_a_run_the_meter_cut);
     RUN_TEST(test_ego_first_scan_then_motion_and_velocities);
+    RUN_TEST(test_ego_implausible_change_is_suspect_until_within_reach);
     RUN_TEST(test_ego_large_first_motion_needs_the_coarse_search);
     RUN_TEST(test_ego_long_interval_and_sparse_scans);
     RUN_TEST(test_ego_budget_holds_on_adversarial_scans);

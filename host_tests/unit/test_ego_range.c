@@ -71,7 +71,8 @@ static void cast_scan(wpose_t pose, bool per_beam)
 typedef struct {
     unsigned pairs;
     unsigned failed;     /* error above 0.10 m or 1 deg */
-    unsigned flagged;    /* any flag but FIRST */
+    unsigned flagged;
+    unsigned flags; /* every flag seen */    /* any flag but FIRST */
     double sum_trans;    /* m */
     double sum_rot;      /* deg */
     double worst_trans;
@@ -117,6 +118,7 @@ static errors_t run_campus(unsigned first, unsigned n, bool per_beam)
         e.pairs++;
         e.failed += (trans > 0.10 || rot > 1.0) ? 1u : 0u;
         e.flagged += (out.flags != 0u) ? 1u : 0u;
+        e.flags |= out.flags;
         e.sum_trans += trans;
         e.sum_rot += rot;
         e.worst_trans = fmax(e.worst_trans, trans);
@@ -134,8 +136,8 @@ static void test_ego_range_360_deg_720_beams_tracks_the_campus_drive(void)
 {
     const errors_t e = run_campus(150u, 150u, false);
     char msg[160];
-    (void)snprintf(msg, sizeof msg, "pairs %u failed %u flagged %u mean %.2f mm %.4f deg worst %.2f mm %.4f deg",
-                   e.pairs, e.failed, e.flagged, 1000.0 * e.sum_trans / e.pairs, e.sum_rot / e.pairs,
+    (void)snprintf(msg, sizeof msg, "pairs %u failed %u flagged %u (flags 0x%x) mean %.2f mm %.4f deg worst %.2f mm %.4f deg",
+                   e.pairs, e.failed, e.flagged, e.flags, 1000.0 * e.sum_trans / e.pairs, e.sum_rot / e.pairs,
                    1000.0 * e.worst_trans, e.worst_rot);
     TEST_MESSAGE(msg);
     TEST_ASSERT_EQUAL_UINT_MESSAGE(149u, e.pairs, msg);
