@@ -1019,10 +1019,13 @@ static void judge_dynamics(ego_state_t *state, bool matched, bool had_prediction
     if (!matched || out->dt_us == 0u || out->dt_us > DYNAMICS_MAX_DT_US) {
         return;
     }
-    if (state->suspect) {
+    const uint16_t unmeasured = EGO_FLAG_APERTURE | EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED;
+    if (state->suspect && (out->flags & unmeasured) == 0u) {
+        /* (A line whose translation is partly the prediction's says
+         * nothing either way.) */
         const ego_pose_t ref = scale_motion(&state->trusted, state->trusted_dt_us, out->dt_us);
         state->suspect = !within_reach(out, &ref, time_us - state->trusted_time_us);
-    } else if (had_prediction && state->motion_dt_us != 0u) {
+    } else if (!state->suspect && had_prediction && state->motion_dt_us != 0u) {
         const ego_pose_t ref = scale_motion(&state->motion, state->motion_dt_us, out->dt_us);
         if (!within_reach(out, &ref, out->dt_us)) {
             state->suspect = true;

@@ -613,6 +613,25 @@ bool ego_track_resume(ego_track_run_t *run)
     return true;
 }
 
+/* The share below which a direction is weak, raised by the normals'
+ * noise: a normal from neighbours a spacing s apart whose ranges scatter
+ * by the residual r tilts by about r / s, and gives a direction no surface
+ * constrains (a corridor's length) about (r / s)^2 of spurious
+ * information (at 3 cm of range noise a corridor's length looked as well
+ * constrained as a room's). Half of it is added, at most 0.2. */
+static fx_q2_30_t weak_share(const ego_track_params_t *params, fx_q16_16_t residual,
+                             fx_q16_16_t spacing_arm)
+{
+    if (spacing_arm <= 0) {
+        return params->weak_share;
+    }
+    const int64_t ratio_q16 = ((int64_t)residual << 16) / spacing_arm;
+    const int64_t noise_q30 = (ratio_q16 < ((int64_t)1 << 17)) ? (ratio_q16 * ratio_q16) >> 2 : (int64_t)1 << 32;
+    const int64_t share = (int64_t)params->weak_share + noise_q30 / 2;
+    const int64_t most = (int64_t)FX_Q2_30_ONE / 5;
+    return (fx_q2_30_t)((share < most) ? share : most);
+}
+
 ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result)
 {
     memset(result, 0, sizeof *result);
@@ -652,7 +671,8 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
             memcpy(groups[k].a, g[k].a, sizeof groups[k].a);
         }
         ego_cov_estimate(groups, g[0].sum_sq + g[1].sum_sq, run->params->weighted, &result->cov);
-        ego_cov_weakest(groups, run->main_direction, run->current->rms_range, run->params->weak_share,
+        ego_cov_weakest(groups, run->main_direction, run->current->rms_range,
+                        weak_share(run->params, result->residual, run->current->spacing_arm),
                         &result->weak);
     }
     result->weak_rotation = run->weak_rotation;
