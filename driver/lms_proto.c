@@ -70,3 +70,21 @@ uint32_t lms_baud_bps(lms_baud_t baud)
     }
     return 0u;
 }
+
+uint32_t lms_wire_us(uint32_t bytes, lms_baud_t baud)
+{
+    const uint32_t bps = lms_baud_bps(baud);
+    return bps == 0u ? 0u : (uint32_t)((uint64_t)bytes * 10u * 1000000u / bps);
+}
+
+uint32_t lms_scan_interval_us(uint16_t values, lms_baud_t baud)
+{
+    const uint32_t period = lms_scan_period_us(values);
+    const uint32_t bps = lms_baud_bps(baud);
+    if (bps == 0u) {
+        return period;
+    }
+    const uint64_t wire = ((uint64_t)(2u * values + 12u) * 10u * 1000000u + bps - 1u) / bps;
+    const uint64_t periods = (wire + period - 1u) / period;
+    return (uint32_t)((periods < 1u ? 1u : periods) * period);
+}

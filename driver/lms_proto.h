@@ -133,6 +133,20 @@ uint32_t lms_baud_bps(lms_baud_t baud);
  * at slow rates). */
 uint32_t lms_scan_period_us(uint16_t values);
 
+/* Time the line takes to carry this many bytes back to back at a rate
+ * (8N1: 10 bit times a byte), microseconds rounded down (a lower bound, so
+ * that an arrival stamp minus it is never earlier than the first byte's
+ * start); 0 for an unknown rate. 372 bytes (181 values) at 500 kbaud:
+ * 7 440 us; 732 bytes (361 values) at 38400: 190 625 us. */
+uint32_t lms_wire_us(uint32_t bytes, lms_baud_t baud);
+
+/* Time between two B0 telegrams of this many values streamed at a rate:
+ * the scan period (lms_scan_period_us), or the telegram's wire time
+ * (2 * values + 12 bytes, real-time indices included) rounded up to whole
+ * periods at a slow rate, where the scanner skips the scans the line
+ * cannot carry. The period alone for an unknown rate. */
+uint32_t lms_scan_interval_us(uint16_t values, lms_baud_t baud);
+
 /* Operating modes (the byte after command 0x20) used by this project. */
 typedef enum {
     LMS_MODE_INSTALLATION = 0x00,   /* needs the 8-byte password */

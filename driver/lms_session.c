@@ -135,15 +135,8 @@ static uint16_t variant_values(uint16_t angle_deg, uint16_t resolution_cdeg, boo
  * scans the line cannot carry). */
 uint32_t lms_session_scan_interval_us(const lms_session_t *s)
 {
-    const uint32_t n = variant_values(s->info.angle_deg, s->info.resolution_cdeg, s->config.partial);
-    const uint32_t period = lms_scan_period_us((uint16_t)n);
-    const uint32_t bps = lms_baud_bps(s->info.baud);
-    if (bps == 0u) {
-        return period;
-    }
-    const uint64_t wire = ((uint64_t)(2u * n + 12u) * 10u * 1000000u + bps - 1u) / bps;
-    const uint64_t periods = (wire + period - 1u) / period;
-    return (uint32_t)((periods < 1u ? 1u : periods) * period);
+    const uint16_t n = variant_values(s->info.angle_deg, s->info.resolution_cdeg, s->config.partial);
+    return lms_scan_interval_us(n, s->info.baud);
 }
 
 static uint32_t silence_limit_us(const lms_session_t *s)

@@ -11,7 +11,7 @@
  *    1     1    version     u8     0x02
  *    2     1    length      u8     61: bytes from offset 3 up to the CRC
  *    3     4    scan        u32    scan index (0 = the first scan)
- *    7     4    time_us     u32    microseconds since the first scan
+ *    7     4    time_us     u32    the scan's time, us (ego_loop.h: scan * period, or its own)
  *   11     4    dx          i32    Q16.16 m, this scan in the frame of the last
  *   15     4    dy          i32    Q16.16 m
  *   19     4    dtheta      u32    binary angle, 2^32 = one turn

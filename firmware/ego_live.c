@@ -13,10 +13,6 @@
 #define INLINE_ESTIMATOR true
 #endif
 
-/* More damaged telegrams than this between two scans would have been a
- * silence restart (the session's default silence_scans). */
-#define MAX_LOST_PER_SCAN 8u
-
 void ego_live_defaults(ego_live_config_t *config)
 {
     memset(config, 0, sizeof *config);
@@ -26,18 +22,7 @@ void ego_live_defaults(ego_live_config_t *config)
     ego_budget_defaults(&config->loop.ego);
 }
 
-/* --- Scan times ------------------------------------------------------- */
-
-static void clock_init(ego_live_clock_t *clock)
-{
-    memset(clock, 0, sizeof *clock);
-}
-
-/* The session restarted: the next scan's time comes from the clock. */
-static void clock_restart(ego_live_clock_t *clock)
-{
-    clock->restarted = true;
-}
+/* --- Scan times: ego_timing_* (ego_loop.h) on the loop's tracker ------- */
 
 static uint32_t framer_damage(const lms_session_t *s)
 {
@@ -45,29 +30,9 @@ static uint32_t framer_damage(const lms_session_t *s)
     return f->crc_errors + f->length_errors + f->truncated;
 }
 
-/* The time of a scan the session reported (EV_SCAN) that arrived at
- * arrival_us: 0 for the first. */
-static uint32_t clock_scan(ego_live_clock_t *clock, const lms_session_t *session,
-                           uint32_t arrival_us)
+static lms_baud_t line_baud(const ego_live_t *live)
 {
-    const uint32_t interval = lms_session_scan_interval_us(session);
-    const uint32_t damaged = framer_damage(session);
-    if (!clock->started) {
-        clock->started = true;
-        clock->time_us = 0u;
-    } else if (clock->restarted) {
-        /* Whole intervals between the two arrivals, at least one. */
-        const uint32_t n = (arrival_us - clock->arrival_us + interval / 2u) / interval;
-        clock->time_us += (n == 0u ? 1u : n) * interval;
-    } else {
-        uint32_t lost = damaged - clock->damaged;
-        lost = lost > MAX_LOST_PER_SCAN ? MAX_LOST_PER_SCAN : lost;
-        clock->time_us += (1u + lost) * interval;
-    }
-    clock->restarted = false;
-    clock->arrival_us = arrival_us;
-    clock->damaged = damaged;
-    return clock->time_us;
+    return lms_session_info(&live->session)->baud;
 }
 
 /* --- The session's and the loop's HAL --------------------------------- */
@@ -111,13 +76,12 @@ lms_status_t ego_live_init(ego_live_t *live, const ego_live_config_t *config,
     live->write_slot = 0u;
     atomic_init(&live->middle, 1u);
     live->read_slot = 2u;
-    clock_init(&live->clock);
     live->loop_hal.read = NULL; /* ego_loop_telegram only writes */
     live->loop_hal.write = hal->out_write;
     live->loop_hal.now_us = hal->now_us;
     live->loop_hal.ctx = hal->ctx;
     ego_loop_config_t loop_config = config->loop;
-    loop_config.use_clock = true; /* with the times of clock_scan */
+    loop_config.use_clock = true; /* with the track times of ego_timing_scan */
     ego_loop_init(&live->loop, &loop_config);
     live->stats.bytes_discarded = (uint32_t)uart_ring_discard(rx); /* from before the session */
     const lms_session_io_t io = {session_write, session_set_baud, live};
@@ -167,7 +131,8 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
     case LMS_SESSION_EV_SCAN: {
         size_t len = 0u;
         const uint8_t *t = lms_session_telegram(&live->session, &len);
-        const uint32_t t_us = clock_scan(&live->clock, &live->session, now_us);
+        const uint32_t t_us = ego_timing_scan(&live->loop.timing, t, len, now_us, line_baud(live),
+                                              framer_damage(&live->session));
         if (live->max_scans != 0u && live->stats.scans >= live->max_scans) {
             live->stats.scans_ignored++;
             break;
@@ -191,8 +156,13 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
         } else {
             ego_loop_gap(&live->loop);
         }
-        clock_restart(&live->clock);
+        ego_timing_reset(&live->loop.timing); /* the next scan seeds the times */
         live->stats.gaps++;
+        break;
+    case LMS_SESSION_EV_STREAMING:
+        /* The A0 that started the stream ended here: the first scan's bytes
+         * come next (ego_loop_step does the same at every A0). */
+        ego_timing_boundary(&live->loop.timing);
         break;
     case LMS_SESSION_EV_STOPPED:
         live->status = EGO_LIVE_STOPPED;
@@ -200,7 +170,7 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
     case LMS_SESSION_EV_FAILED:
         live->status = EGO_LIVE_FAILED;
         break;
-    default: /* NONE, STREAMING: nothing to do */
+    default: /* NONE: nothing to do */
         break;
     }
 }
@@ -218,6 +188,8 @@ static void feed_chunk(ego_live_t *live, size_t n, uint32_t arrival_us)
         const lms_session_event_t ev =
             lms_session_feed(&live->session, &live->chunk[off], n - off, &used, arrival_us);
         off += used;
+        /* Before the event: a scan's bytes count towards its own time. */
+        ego_timing_bytes(&live->loop.timing, used, arrival_us, line_baud(live));
         if (ev == LMS_SESSION_EV_NONE) {
             break;
         }

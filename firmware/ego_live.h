@@ -10,23 +10,25 @@
  *                                  EV_RESTART -> ego_loop_gap
  *                               <-- hal.scanner_write, hal.scanner_set_baud
  *
- * Scan times are those of `lmsego run` (firmware/host/cmd_run.c), so a live
- * run that loses nothing prints the CSV of `lmsego replay` of the same
- * scans, byte for byte: scan k is one scan interval
- * (lms_session_scan_interval_us) after scan k - 1, plus one interval per
- * telegram the session's framer saw damaged in between (at most 8); only
- * across a restart does the clock count the intervals that passed, from the
- * arrival of the last scan before it to the arrival of the first after it.
- * Counting beats stamping: the scanner's mirror is a better clock than the
- * moment a busy main loop gets to a telegram. The arrival time used across
- * a restart, and every time given to the session with bytes (byte gaps,
- * the silence timer, replies), is the receive ring's stamp of the bytes
- * (uart_ring.h: taken by the interrupt when they came, late by at most
- * the rest of their ring block), not the time the loop read them: a loop
- * held up by a hard scan still counts the gap from when the scans came.
- * And the timers run after the waiting bytes are fed, so a reply or a scan
- * that did come is never taken for a timeout or for silence because the
- * loop was late.
+ * Scan times (ego_loop.h, "Scan times from arrival stamps"): the scan's
+ * time as the estimator defines it (the mean of its beams' times), on
+ * hal.now_us's clock, from the arrival stamps of its telegram's bytes less
+ * the telegram's wire time and the lag of its beams, tracked by counting
+ * scan intervals so that dt is the mirror's, not the stamps' jitter. The
+ * stamps are the receive ring's (uart_ring.h: taken by the interrupt when
+ * the bytes came, late by at most the rest of their ring block), not the
+ * time the loop read them: a loop held up by a hard scan still times the
+ * scans by when they came. Every time given to the session with bytes
+ * (byte gaps, the silence timer, replies) is that stamp too, and the
+ * timers run after the waiting bytes are fed, so a reply or a scan that
+ * did come is never taken for a timeout or for silence because the loop
+ * was late. After a restart the next scan seeds the times afresh. The
+ * receive side (ego_live_service) runs the tracker on live->loop.timing;
+ * the estimator's side never touches it. `lmsego run` (cmd_run.c) runs
+ * this core, and `lmsego replay` of its recording (run --record) runs the
+ * same tracker over the recorded arrival times (ego_loop_step with
+ * use_clock): a run without a restart prints that replay's CSV, byte for
+ * byte, but for its latency column.
  *
  * Static memory: ego_live_t holds the session, the loop (ego_loop_t, about
  * 25 KB with the estimator) and a chunk buffer (EGO_LIVE_CHUNK bytes); the
@@ -67,7 +69,8 @@ typedef struct {
 
 typedef struct {
     lms_session_config_t session;
-    ego_loop_config_t loop;   /* use_clock is forced on: scan times from the session;
+    ego_loop_config_t loop;   /* use_clock is forced on: scan times from the arrival
+                                 stamps (latency: the CSV's latency_ms column);
                                  lms.meas_mode is the session's: the mode the scanner
                                  was found in or set to */
     uint32_t max_scans;       /* stop cleanly after this many scans; 0: never */
@@ -87,15 +90,6 @@ typedef struct {
  * defaults (CSV), no scan limit, the estimator within its sensor-rate
  * budget (ego_budget_defaults): a line is due before the next scan. */
 void ego_live_defaults(ego_live_config_t *config);
-
-/* Scan times (see above); private to the core. */
-typedef struct {
-    bool started;
-    bool restarted;       /* a restart since the last scan */
-    uint32_t time_us;     /* time of the last scan, from the first */
-    uint32_t arrival_us;  /* clock at its arrival */
-    uint32_t damaged;     /* framer damage counted at the last scan */
-} ego_live_clock_t;
 
 typedef enum {
     EGO_LIVE_RUNNING = 0,
@@ -123,7 +117,7 @@ typedef struct {
     uint16_t len;
     bool gap;
     uint8_t meas_mode;        /* the scanner's measuring mode (lms_session_info) */
-    uint32_t time_us;
+    uint32_t time_us;         /* its track time (ego_timing_scan) */
 } ego_live_slot_t;
 
 #define EGO_LIVE_SLOTS 3u
@@ -136,7 +130,6 @@ typedef struct {
     uint32_t max_scans;
     ego_live_status_t status;
     ego_live_stats_t stats;
-    ego_live_clock_t clock;
     lms_session_t session;
     ego_loop_t loop;
     uint8_t chunk[EGO_LIVE_CHUNK];

@@ -63,7 +63,7 @@ ego_lms_status_t ego_lms_to_range(lms_scan_t *lms, const ego_lms_params_t *param
     /* A partial scan (mode 2A) is one turn; a complete one at 0.5 (0.25)
      * deg is two (four). */
     if (params->timing == (uint8_t)EGO_LMS_TIMING_MIRROR) {
-        out->passes = lms->is_partial ? 1u : (uint8_t)(CDEG_PER_TURN_STEP / layout.step_cdeg);
+        out->passes = (uint8_t)(lms->is_partial ? 1u : CDEG_PER_TURN_STEP / layout.step_cdeg);
         out->pass_us = LMS_TURN_US;
         out->beam_ns = LMS_DEGREE_NS;
     }

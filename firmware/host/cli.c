@@ -70,6 +70,35 @@ void cli_print_command_usage(const cli_command_t *cmd)
     (void)puts("  FILE is a raw recorded telegram stream (scanner -> host); '-' reads stdin.");
 }
 
+void cli_print_csv_columns(const char *time_text, bool latency)
+{
+    (void)printf(
+        "\noutput: CSV on stdout, a header line, then one line per scan after the first:\n"
+        "  scan          scan index, counted from 0 (the first scan has no line)\n"
+        "  time_s        s: %s\n"
+        "  dx_m, dy_m    m: this scan's position in the frame of the previous scan\n"
+        "  dtheta_rad    rad, in [-pi, pi): its heading there (counter-clockwise)\n"
+        "  vx_mps, vy_mps, omega_radps\n"
+        "                m/s, m/s, rad/s: the motion over the time since the previous line's scan\n"
+        "  flags         EGO_FLAG_* bits (estimator/ego.h), summed: 1 first scan, reset or\n"
+        "                gap (no motion), 2 aperture (a corridor), 4 not converged, 8 low\n"
+        "                correlation, 16 too few points, 32 predicted (not matched), 64\n"
+        "                recovering (a search runs), 128 recovered, 256 weak rotation, 512\n"
+        "                weak translation (a corridor's length: the covariance's largest\n"
+        "                axis), 1024 weak translation with a turn, 2048 suspect (a speed\n"
+        "                change beyond 1.5 g, or a search's answer holding under half the\n"
+        "                scan); docs/estimator.md, \"Trust\"\n"
+        "  iterations    registration iterations\n"
+        "  matches       matched point pairs\n"
+        "  cov_xx, cov_xy, cov_xt, cov_yy, cov_yt, cov_tt\n"
+        "                m^2, m^2, m rad, m^2, m rad, rad^2: covariance of (dx, dy, dtheta); inf:\n"
+        "                not measured (the velocities' is this over dt^2)\n",
+        time_text);
+    if (latency) {
+        (void)puts("  latency_ms    ms: the clock when the line was written less time_s");
+    }
+}
+
 bool cli_is_help(const char *arg)
 {
     return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0;

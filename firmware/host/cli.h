@@ -49,6 +49,11 @@ int cli_usage_error(const cli_command_t *cmd, const char *problem, const char *a
 /* Usage of one subcommand on stdout ("usage: lmsego stats FILE" + summary). */
 void cli_print_command_usage(const cli_command_t *cmd);
 
+/* The output columns of replay / run on stdout, with units; the time
+ * column as time_text says (what its zero is); latency: run's latency_ms
+ * column too. The flag bits are those of estimator/ego.h. */
+void cli_print_csv_columns(const char *time_text, bool latency);
+
 /* True for "-h" and "--help". */
 bool cli_is_help(const char *arg);
 

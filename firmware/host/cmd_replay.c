@@ -1,11 +1,28 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
  * [--mode HEX] [--budget none|default|U] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
- * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O]`:
+ * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] [--times arrival|index]
+ * [--baud B] [--sweep lms|instant]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
+ *
+ * Scan times: a raw stream's scans are one period apart from 0 (scan *
+ * period; --period). A recording with arrival times (`lmsego record`,
+ * `run --record`) is timed by them through the live core's tracker
+ * (ego_loop.h, "Scan times from arrival stamps": the mean beam's time on
+ * the recording's clock, the counted interval apart), so `lmsego run`'s
+ * CSV without its latency column is the replay of its recording, byte for
+ * byte, when the run had no restart; --baud B (default 500000) is the
+ * line's rate, which the wire times need; --times index times it as a raw
+ * stream.
+ *
+ * --sweep: when a scan's values were measured. lms (the default): as the
+ * LMS measures them, along its mirror's sweep, 0.5-deg scans interlacing
+ * two turns 13.3 ms apart (firmware/ego_lms.h); the estimator de-skews
+ * them with the last motion. instant: all at once, a simulator's stream
+ * (lmsworld and lmsgen cast every value at once unless told otherwise).
  *
  * --budget sets the estimator's work budget (ego.h): `default` (the
  * default: the live core's, 35.62 M work units, about Cortex-M3
@@ -43,11 +60,17 @@
 
 #include "commands.h"
 #include "ego_loop.h"
+#include "live_common.h"
 #include "stream_file.h"
 #include "stream_frames.h"
 
 typedef struct {
     stream_file_t file;
+    /* The first read, taken before the loop starts to learn the format,
+     * handed out first. */
+    uint8_t first[STREAM_FILE_CHUNK];
+    size_t first_len;
+    size_t first_pos;
     int failed; /* a read error happened */
     int write_failed;
     FILE *pairs;  /* --pairs, or NULL */
@@ -244,6 +267,16 @@ static int close_output(FILE *f, const char *path)
 static int32_t hal_read(void *ctx, uint8_t *buf, size_t cap)
 {
     replay_io_t *io = ctx;
+    if (io->failed) {
+        return -1; /* the first read failed: reported at the end */
+    }
+    if (io->first_pos < io->first_len) {
+        size_t n = io->first_len - io->first_pos;
+        n = n < cap ? n : cap;
+        memcpy(buf, &io->first[io->first_pos], n);
+        io->first_pos += n;
+        return (int32_t)n;
+    }
     size_t got = 0u;
     const stream_read_t r = stream_file_read(&io->file, buf, cap, &got);
     if (r == STREAM_READ_ERROR) {
@@ -261,10 +294,13 @@ static void hal_write(void *ctx, const uint8_t *buf, size_t len)
     }
 }
 
+/* The arrival time of the block the last bytes read came from (a raw
+ * stream: 0, unused: its scans are timed by index and period). The same
+ * 32-bit clock `lmsego run` stamps its bytes with. */
 static uint32_t hal_now_us(void *ctx)
 {
-    (void)ctx;
-    return 0u; /* replay times scans by their index and the period */
+    const replay_io_t *io = ctx;
+    return (uint32_t)io->file.time_us;
 }
 
 static int parse_hist(const char *text, ego_hist_kind_t *kind)
@@ -295,14 +331,48 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *frames_path = NULL;
     unsigned long scan_step = 1u;
     unsigned long scan_offset = 0u;
+    int times_index = 0;  /* --times index */
+    int times_arrival = 0; /* --times arrival */
+    lms_baud_t baud = LMS_BAUD_500000;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (cli_is_help(arg)) {
             cli_print_command_usage(self);
+            cli_print_csv_columns(
+                "the scan's time: a raw stream's scan * period (from 0); a\n"
+                "                recording's, the mean of its beams' times since the\n"
+                "                recording's clock started, from the arrival times",
+                false);
             return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
         }
-        if (strcmp(arg, "--period") == 0) {
+        if (strcmp(arg, "--times") == 0) {
+            if (value != NULL && strcmp(value, "index") == 0) {
+                times_index = 1;
+                times_arrival = 0;
+            } else if (value != NULL && strcmp(value, "arrival") == 0) {
+                times_arrival = 1;
+                times_index = 0;
+            } else {
+                return cli_usage_error(self, "invalid --times", value, "arrival or index");
+            }
+            i++;
+        } else if (strcmp(arg, "--sweep") == 0) {
+            if (value != NULL && strcmp(value, "lms") == 0) {
+                config.lms.timing = (uint8_t)EGO_LMS_TIMING_MIRROR;
+            } else if (value != NULL && strcmp(value, "instant") == 0) {
+                config.lms.timing = (uint8_t)EGO_LMS_TIMING_INSTANT;
+            } else {
+                return cli_usage_error(self, "invalid --sweep", value, "lms or instant");
+            }
+            i++;
+        } else if (strcmp(arg, "--baud") == 0) {
+            if (live_parse_baud(value, &baud) != 0) {
+                return cli_usage_error(self, "invalid --baud", value,
+                                       "9600, 19200, 38400 or 500000");
+            }
+            i++;
+        } else if (strcmp(arg, "--period") == 0) {
             double s;
             if (value == NULL || cli_parse_double(value, &s) != 0 || s <= 0.0 || s > 10.0) {
                 return cli_usage_error(self, "invalid --period", value, "seconds, 0 < S <= 10");
@@ -407,6 +477,23 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         free(io.prior);
         free(io.has_prior);
         return CLI_EXIT_RUNTIME;
+    }
+    /* The first read tells a recording from a raw stream. */
+    if (stream_file_read(&io.file, io.first, sizeof io.first, &io.first_len) == STREAM_READ_ERROR) {
+        io.failed = 1;
+        io.first_len = 0u;
+    }
+    config.use_clock = io.file.is_recording && !times_index && !io.failed;
+    config.line_baud = (uint8_t)baud;
+    if (times_arrival && !io.file.is_recording && !io.failed) {
+        (void)close_output(io.pairs, pairs_path);
+        (void)close_output(io.tum, tum_path);
+        (void)close_output(io.frames, frames_path);
+        stream_file_close(&io.file);
+        free(io.prior);
+        free(io.has_prior);
+        return cli_usage_error(self, "--times arrival needs a recording with arrival times",
+                               shown, "a raw stream has none");
     }
     if (io.tum != NULL) { /* the first scan, at the origin */
         (void)fprintf(io.tum, "%.6f 0.000000 0.000000 0 0 0 0.000000000 1.000000000\n", 0.0);

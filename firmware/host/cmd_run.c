@@ -3,19 +3,21 @@
  *
  *   lmsego run --port DEV [--baud B] [--variant DEG,RES] [--units cm|mm]
  *              [--mode HEX] [--partial] [--address A] [--power-wait S]
- *              [--mount X,Y,DEG] [--scans N]
+ *              [--mount X,Y,DEG] [--scans N] [--record FILE]
  *   lmsego record --port DEV [same bring-up options] -o FILE [--scans N]
  *
  * Both open the port (driver/posix/lms_serial), run the session
  * (driver/lms_session) until the scanner streams, and then:
- * - run: feeds every B0 to the firmware loop and prints the same CSV as
- *   `lmsego replay`, one line per scan. Scan times count scan intervals
- *   (lms_session_scan_interval_us), not the host clock, which a busy host
- *   reads late: each scan is one interval after the last, plus one per
- *   telegram the framer saw damaged in between; only across a restart does
- *   the host clock say how many intervals passed. So on a line that loses
- *   nothing the output is byte-identical to `lmsego replay` of the same
- *   stream;
+ * - run: feeds every B0 to the firmware loop and prints the CSV of
+ *   `lmsego replay`, one line per scan, plus latency_ms. time_s is the
+ *   scan's time (the mean of its beams' times: ego_range.h) in seconds
+ *   since run started, from the arrival times of its bytes less their wire
+ *   time and the lag of its beams, tracked by counting scan intervals
+ *   (ego_loop.h, "Scan times from arrival stamps"), so the velocities' dt
+ *   is the mirror's; latency_ms is the clock when the line is written less
+ *   time_s. --record FILE also writes the recording (as record does), and
+ *   `lmsego replay FILE` prints the same CSV without latency_ms, byte for
+ *   byte, when the run had no restart;
  * - record: writes every byte read while streaming, with its arrival time,
  *   to a recording (firmware/host/recording.h) that stats, scans and
  *   replay read.
@@ -110,6 +112,7 @@ typedef struct {
     const char *port;
     const char *out_path;  /* record */
     unsigned long scans;   /* 0: until a signal */
+    bool run_records;      /* run --record */
     lms_session_config_t session;
     ego_loop_config_t loop;
 } live_options_t;
@@ -130,6 +133,11 @@ static int parse_options(const cli_command_t *self, int argc, char **argv, bool 
         }
         if (cli_is_help(arg)) {
             cli_print_command_usage(self);
+            if (!record) {
+                cli_print_csv_columns("the scan's time (the mean of its beams' times) since\n"
+                                      "                run started, from its bytes' arrival",
+                                      true);
+            }
             return cli_finish_stdout() ? PARSED_HELP : CLI_EXIT_RUNTIME;
         }
         if (strcmp(arg, "--port") == 0 && value != NULL) {
@@ -180,7 +188,11 @@ static int parse_options(const cli_command_t *self, int argc, char **argv, bool 
             }
         } else if (record && strcmp(arg, "-o") == 0 && value != NULL) {
             o->out_path = value;
-        } else if (strcmp(arg, "--port") == 0 || strcmp(arg, "-o") == 0) {
+        } else if (!record && strcmp(arg, "--record") == 0 && value != NULL) {
+            o->out_path = value;
+            o->run_records = true;
+        } else if (strcmp(arg, "--port") == 0 || strcmp(arg, "-o") == 0 ||
+                   strcmp(arg, "--record") == 0) {
             return cli_usage_error(self, "missing value after", arg, NULL);
         } else {
             return cli_usage_error(self, "unknown option", arg, NULL);
@@ -312,6 +324,13 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     static uart_ring_t ring;
     static scan_queue_t queue;
     static uint8_t buf[UART_RING_SIZE];
+    /* The read before, written first when the recording starts: the reply
+     * that started the stream may have begun there, and replay needs all
+     * of it (it is where a recording's scan times start counting bytes). */
+    static uint8_t prev[UART_RING_SIZE];
+    size_t prev_len = 0u;
+    uint64_t prev_us = 0u;
+    bool recorded = false;
     memset(&o, 0, sizeof o);
     memset(&io, 0, sizeof io);
     queue.head = 0u;
@@ -331,9 +350,10 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     if (rc != 0) {
         return rc;
     }
+    const bool recording = record || o.run_records;
     recording_writer_t rec;
     memset(&rec, 0, sizeof rec);
-    const int open_error = record ? recording_writer_open(&rec, o.out_path) : 0;
+    const int open_error = recording ? recording_writer_open(&rec, o.out_path) : 0;
     if (open_error != 0) {
         cli_file_error("cannot create ", o.out_path, strerror(open_error));
         return CLI_EXIT_RUNTIME;
@@ -343,7 +363,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     lms_serial_status_t ps = lms_serial_open(&io.port, o.port, LMS_BAUD_9600);
     if (ps != LMS_SERIAL_OK) {
         cli_file_error("cannot open ", o.port, lms_serial_status_name(ps));
-        if (record) {
+        if (recording) {
             (void)recording_writer_close(&rec);
         }
         return CLI_EXIT_RUNTIME;
@@ -353,6 +373,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     config.session = o.session;
     config.loop = o.loop;
     config.max_scans = (uint32_t)o.scans;
+    config.loop.latency = !record; /* run: the latency_ms column */
     config.deferred = true;
     config.one_scan_per_service = true;
     const ego_live_hal_t hal = {io_write, io_set_baud, hal_now_us, hal_write, &io};
@@ -360,7 +381,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     if (ego_live_init(&core, &config, &hal, &ring) != LMS_OK) {
         cli_error("invalid session settings");
         lms_serial_close(&io.port);
-        if (record) {
+        if (recording) {
             (void)recording_writer_close(&rec);
         }
         return CLI_EXIT_RUNTIME;
@@ -428,11 +449,22 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
         const bool was_streaming = seen.streaming;
         report_changes(self->name, session, &seen);
         /* A recording holds the stream: every read whose bytes the session
-         * took while streaming, from the one that started it to the one
-         * that ended it (its last scan, --scans N). */
-        const int rec_error = (record && got > 0u && (was_streaming || seen.streaming))
-                                  ? recording_writer_append(&rec, read_us, buf, got)
-                                  : 0;
+         * took while streaming, from the one that started it (and the one
+         * before) to the one that ended it (its last scan, --scans N). */
+        int rec_error = 0;
+        if (recording && got > 0u && (was_streaming || seen.streaming)) {
+            if (!recorded && prev_len > 0u) {
+                rec_error = recording_writer_append(&rec, prev_us, prev, prev_len);
+            }
+            recorded = true;
+            if (rec_error == 0) {
+                rec_error = recording_writer_append(&rec, read_us, buf, got);
+            }
+        } else if (got > 0u) {
+            memcpy(prev, buf, got);
+            prev_len = got;
+            prev_us = read_us;
+        }
         if (rec_error != 0) {
             cli_file_error("error writing ", o.out_path, strerror(rec_error));
             status = CLI_EXIT_RUNTIME;
@@ -470,7 +502,7 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     }
     report_session(session, self->name);
     lms_serial_close(&io.port);
-    const int close_error = record ? recording_writer_close(&rec) : 0;
+    const int close_error = recording ? recording_writer_close(&rec) : 0;
     if (close_error != 0) {
         cli_file_error("error writing ", o.out_path, strerror(close_error));
         status = CLI_EXIT_RUNTIME;

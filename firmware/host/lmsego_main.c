@@ -22,7 +22,8 @@ static const cli_command_t commands[] = {
     {"scans", "[--mode HEX] FILE", "print every decoded B0 scan, one line per scan", cmd_scans},
     {"replay",
      "[--period S] [--mount X,Y,DEG] [--mode HEX] [--budget none|default|U] [--icp] [--hist KIND] [--prior FILE] "
-     "[--pairs OUT] [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] FILE",
+     "[--pairs OUT] [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] "
+     "[--times arrival|index] [--baud B] [--sweep lms|instant] FILE",
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
     {"frames", "FILE", "decode a captured stream of binary ego-motion frames to the replay CSV",
      cmd_frames},
@@ -31,7 +32,7 @@ static const cli_command_t commands[] = {
      cmd_import_carmen},
     {"run",
      "--port DEV [--baud B] [--variant DEG,RES] [--units cm|mm] [--mode HEX] [--partial] "
-     "[--address A] [--power-wait S] [--mount X,Y,DEG] [--scans N]",
+     "[--address A] [--power-wait S] [--mount X,Y,DEG] [--scans N] [--record FILE]",
      "bring a live scanner up and print its ego-motion CSV, one line per scan", cmd_run},
     {"record",
      "--port DEV [--baud B] [--variant DEG,RES] [--units cm|mm] [--mode HEX] [--partial] "

@@ -20,8 +20,10 @@
  * stands still while the core works: deterministic, the same output on
  * every run, on the host and on the target.
  *
- * Output (UART0): the CSV lines, the same bytes as `lmsego replay` of the
- * scans up to the power cycle; then '#' lines:
+ * Output (UART0): the CSV lines, those of `lmsego replay` of the scans up
+ * to the power cycle but for time_s, each scan's own time on the simulated
+ * clock (firmware/ego_loop.h, "Scan times from arrival stamps"); then '#'
+ * lines:
  *   # session scans=.. bring_ups=.. restarts=.. (silence .., power-on .., link ..) ...
  *   # timeline_ms streaming=.. restart=.. streaming_again=.. stopped=..
  *   # ring peak=.. dropped=.. discarded=..

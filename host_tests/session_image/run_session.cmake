@@ -14,7 +14,10 @@
 #   Passes when the program exits 0, its lines are numbered 1, 2, 3, ...,
 #   one of them (not among the first 10) is the restart (flags odd:
 #   EGO_FLAG_FIRST), and every line before it, header included, equals
-#   `lmsego replay --budget default STREAM`'s line with the same number.
+#   `lmsego replay --budget default STREAM`'s line with the same number
+#   but for time_s, which is the scan's own time on the image's clock
+#   (firmware/ego_loop.h, "Scan times from arrival stamps"): there the
+#   lines must be as far apart as the replay's (the counted interval).
 include(${CMAKE_CURRENT_LIST_DIR}/../../firmware/target/run_image.cmake)
 get_filename_component(dir "${OUT}" DIRECTORY)
 file(MAKE_DIRECTORY "${dir}")
@@ -91,14 +94,37 @@ elseif(MODE STREQUAL "replay")
         message(FATAL_ERROR "the replay has ${n_replay} lines, the restart is line ${restart}")
     endif()
     math(EXPR before "${restart} - 1")
+    # time_s in microseconds (six decimals).
+    function(line_time_us line var)
+        string(REPLACE "," ";" f "${line}")
+        list(GET f 1 t)
+        string(REPLACE "." "" t "${t}")
+        math(EXPR t "${t} + 0")
+        set(${var} ${t} PARENT_SCOPE)
+    endfunction()
     foreach(i RANGE 0 ${before})
         list(GET lines ${i} a)
         list(GET replay_lines ${i} b)
+        if(i GREATER 0)
+            line_time_us("${a}" ta)
+            line_time_us("${b}" tb)
+            if(i EQUAL 1)
+                set(ta1 ${ta})
+                set(tb1 ${tb})
+            endif()
+            math(EXPR da "${ta} - ${ta1}")
+            math(EXPR db "${tb} - ${tb1}")
+            if(NOT da EQUAL db)
+                message(FATAL_ERROR "line ${i} is ${da} us after line 1, the replay's ${db}:\n  ${a}\n  ${b}")
+            endif()
+            string(REGEX REPLACE "^([^,]*),[^,]*," "\\1,," a "${a}")
+            string(REGEX REPLACE "^([^,]*),[^,]*," "\\1,," b "${b}")
+        endif()
         if(NOT a STREQUAL b)
             message(FATAL_ERROR "line ${i} differs from the replay's:\n  ${a}\n  ${b}")
         endif()
     endforeach()
-    message(STATUS "${n} lines; the ${restart} before the restart equal lmsego replay's")
+    message(STATUS "${n} lines; the ${restart} before the restart equal lmsego replay's but for their times, as far apart")
 else()
     message(FATAL_ERROR "MODE must be target or replay")
 endif()

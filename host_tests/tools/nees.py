@@ -22,7 +22,8 @@ aperture, low correlation, too few points, predicted, weak
 rotation, translation or coupled, ambiguous) or a covariance whose 99.9 %
 ellipse (NEES 16.27) holds the error; one that does neither is silent.
 Prints their counts (and each silent pair with --list); --max-silent fails
-above it. Pure Python: no numpy."""
+above it. --require-flag MASK fails unless --min-share of the lines carry
+one of its flags (a ring must say its turn is weak). Pure Python: no numpy."""
 import argparse
 import csv
 import math
@@ -52,45 +53,68 @@ def span(truth, i, j):
     return pose
 
 
-def silent_failures(truth, rows, fail_m, fail_deg, ref):
-    """(failed, flagged, within the 99.9 % ellipse, [silent pairs])."""
-    failed, flagged, covered, silent = 0, 0, 0, []
-    last = None  # the last scan with an answer (the next motion starts there)
+def spans(rows):
+    """(row, start, end) for each line that claims a motion: scan end in the
+    frame of scan start. A recovered line's motion ends at the scan its
+    search started from (the first recovering line's), and the next line's
+    starts there (ego.h); first and recovering lines claim none."""
+    last, target, out = None, None, []
     for r in rows:
         flags, scan = int(r['flags']), int(r['scan'])
         if flags & FIRST:
-            last = scan
+            last, target = scan, None
             continue
+        if last is None:
+            last = scan - 1
         if flags & RECOVERING:
-            last = scan - 1 if last is None else last
+            target = scan if target is None else target
             continue
-        start = last if (flags & RECOVERED) and last is not None else scan - 1
-        last = scan
-        t = span(truth, start, scan)
+        end = target if (flags & RECOVERED) and target is not None else scan
+        if end > last:
+            out.append((r, last, end))
+        last, target = end, None
+    return out
+
+
+def error_of(r, t):
+    return (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
+            (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
+
+
+def covariance_of(r, ref):
+    """The line's covariance plus the truth's own error, or None (inf)."""
+    cells = [r['cov_' + k] for k in ('xx', 'xy', 'xt', 'yy', 'yt', 'tt')]
+    if any('inf' in x for x in cells):
+        return None
+    c = [float(x) for x in cells]
+    c[0] += ref[0]
+    c[3] += ref[0]
+    c[5] += ref[1]
+    return c
+
+
+def silent_failures(truth, rows, fail_m, fail_deg, ref):
+    """(failed, flagged, within the 99.9 % ellipse, [silent pairs])."""
+    failed, flagged, covered, silent = 0, 0, 0, []
+    for r, start, end in spans(rows):
+        flags = int(r['flags'])
+        t = span(truth, start, end)
         if t is None:
             continue
-        e = (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
-             (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
+        e = error_of(r, t)
         if math.hypot(e[0], e[1]) <= fail_m and abs(math.degrees(e[2])) <= fail_deg:
             continue
         failed += 1
         if flags & TRUST:
             flagged += 1
             continue
-        cells = [r['cov_' + k] for k in ('xx', 'xy', 'xt', 'yy', 'yt', 'tt')]
-        if any('inf' in x for x in cells):
-            covered += 1
-            continue
-        c = [float(x) for x in cells]
-        c[0] += ref[0]
-        c[3] += ref[0]
-        c[5] += ref[1]
-        n = nees(c, e)
-        if n is None or n <= CHI2_3_999:
+        c = covariance_of(r, ref)
+        n = None if c is None else nees(c, e)
+        if c is None or n is None or n <= CHI2_3_999:
             covered += 1
         else:
             silent.append('%d-%d: %.3f m %.2f deg flags %d NEES %.0f' %
-                          (start, scan, math.hypot(e[0], e[1]), math.degrees(e[2]), flags, n))
+                          (start, end, math.hypot(e[0], e[1]), math.degrees(e[2]), flags, n))
     return failed, flagged, covered, silent
 
 
@@ -138,6 +162,9 @@ def main():
     ap.add_argument('--fail-deg', type=float, default=1.0)
     ap.add_argument('--max-silent', type=int)
     ap.add_argument('--list', action='store_true', help='print each silent failure')
+    ap.add_argument('--require-flag', type=lambda x: int(x, 0),
+                    help='MASK: a share of the lines (--min-share) must carry one of these flags')
+    ap.add_argument('--min-share', type=float, default=0.9)
     a = ap.parse_args()
     ref = [0.0, 0.0]
     if a.ref_sigma:
@@ -147,20 +174,13 @@ def main():
     plain, aperture = [], []
     with open(a.csv) as f:
         rows = list(csv.DictReader(f))
-    for r in rows:
+    for r, start, end in spans(rows):
         flags = int(r['flags'])
-        scan = int(r['scan'])
-        t = truth.get((scan - 1, scan))
-        cells = [r['cov_' + k] for k in ('xx', 'xy', 'xt', 'yy', 'yt', 'tt')]
-        if flags & SKIP or t is None or any('inf' in x for x in cells):
+        t = truth.get((start, end)) if end == start + 1 else None
+        c = covariance_of(r, ref)
+        if flags & SKIP or t is None or c is None:
             continue
-        e = (float(r['dx_m']) - t[0], float(r['dy_m']) - t[1],
-             (float(r['dtheta_rad']) - t[2] + math.pi) % (2.0 * math.pi) - math.pi)
-        c = [float(x) for x in cells]
-        c[0] += ref[0]
-        c[3] += ref[0]
-        c[5] += ref[1]
-        n = nees(c, e)
+        n = nees(c, error_of(r, t))
         if n is not None:
             (aperture if flags & 2 else plain).append(n)
     line, mean, outside = summary('measured', plain)
@@ -171,7 +191,13 @@ def main():
           'silent %d of %d lines' % (a.fail_m, a.fail_deg, bad, flagged, covered, len(silent), len(rows)))
     for line in silent if a.list else []:
         print('  silent ' + line)
-    failed = ((a.max_mean is not None and mean > a.max_mean) or
+    flagged_share = 1.0
+    if a.require_flag is not None:
+        with_flag = sum(1 for r in rows if int(r['flags']) & a.require_flag)
+        flagged_share = with_flag / len(rows) if rows else 0.0
+        print('lines with flags 0x%x: %d of %d' % (a.require_flag, with_flag, len(rows)))
+    failed = ((a.require_flag is not None and flagged_share < a.min_share) or
+              (a.max_mean is not None and mean > a.max_mean) or
               (a.max_outside is not None and outside > a.max_outside) or
               (a.max_silent is not None and len(silent) > a.max_silent))
     if failed:

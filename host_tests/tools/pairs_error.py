@@ -2,7 +2,7 @@
 """Compare `lmsego replay` CSV with a ground-truth pairs file (lmsworld).
 
 usage: pairs_error.py TRUTH.pairs REPLAY.csv [--exclude-flags MASK] [--fail-m 0.10 --fail-deg 1.0]
-                     [--max-failed N] [--max-rot-mean DEG] [--max-trans-mean M]
+                     [--max-failed N] [--min-failed N] [--max-rot-mean DEG] [--max-trans-mean M]
                      [--max-rot-median DEG] [--max-trans-median M]
 
 Prints, over the pairs present in both: translation error (along = x of the
@@ -125,6 +125,8 @@ def main():
     ap.add_argument('--fail-m', type=float, default=0.10)
     ap.add_argument('--fail-deg', type=float, default=1.0)
     ap.add_argument('--max-failed', type=int)
+    ap.add_argument('--min-failed', type=int, help='fail unless at least this many pairs failed '
+                                                   '(a test that a setting matters)')
     ap.add_argument('--max-rot-mean', type=float)
     ap.add_argument('--max-trans-mean', type=float)
     ap.add_argument('--max-rot-median', type=float)
@@ -156,6 +158,8 @@ def main():
     broken = []
     if a.max_failed is not None and fails > a.max_failed:
         broken.append('failed %d > %d' % (fails, a.max_failed))
+    if a.min_failed is not None and fails < a.min_failed:
+        broken.append('failed %d < %d' % (fails, a.min_failed))
     if a.max_rot_mean is not None and (not rot or statistics.fmean(rot) > a.max_rot_mean):
         broken.append('rotation mean above %g deg' % a.max_rot_mean)
     if a.max_trans_mean is not None and (not trans or statistics.fmean(trans) > a.max_trans_mean):

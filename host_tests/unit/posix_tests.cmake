@@ -51,9 +51,10 @@ if(TARGET lmsego)
                 -DEXPECT_RC=1 -DSTDERR_ONE_LINE=ON
                 "-DSTDERR_REGEX=bad recording '.*backwards\\.lmsrec': block time goes backwards at byte 20"
                 -P ${rec_script})
-    # replay: stdout and stderr identical to the raw stream's.
+    # replay --times index (the recording's made-up arrival times left
+    # aside): stdout and stderr identical to the raw stream's.
     add_test(NAME cli_recording_replay
-        COMMAND sh -c "\"$0\" replay \"$1\" >\"$3.raw\" 2>&1; \"$0\" replay \"$2\" >\"$3.rec\" 2>&1; cmp \"$3.raw\" \"$3.rec\" && grep -q '^1,' \"$3.rec\""
+        COMMAND sh -c "\"$0\" replay \"$1\" >\"$3.raw\" 2>&1; \"$0\" replay --times index \"$2\" >\"$3.rec\" 2>&1; cmp \"$3.raw\" \"$3.rec\" && grep -q '^1,' \"$3.rec\""
                 $<TARGET_FILE:lmsego> ${rec_data}/sequences/table2_361_cm.lms
                 ${LMSEGO_REC_OUT_DIR}/table2_361_cm.lmsrec ${LMSEGO_REC_OUT_DIR}/replay)
     set_tests_properties(cli_recording_stats cli_recording_scans_stdin cli_recording_bad

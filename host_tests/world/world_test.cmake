@@ -18,8 +18,12 @@
 #      usage        lmsworld exits EXPECT_RC and writes no stream
 #      regen        outputs equal SHIPPED_DIR/NAME.{lms,pairs,tum}
 #      budget       `lmsego replay` within the default budget (REPLAY_MODE:
-#                   its --mode) fails at most MAX_FAILED pairs, aperture
+#                   its --mode; REPLAY_TIMING: its --sweep, default instant) fails at
+#                   most MAX_FAILED pairs (or at least MIN_FAILED), aperture
 #                   lines' translation excluded (PYTHON, SCRIPT: pairs_error.py)
+#      trust        the same replay has no silent failure (NEES: nees.py) and,
+#                   with REQUIRE_FLAG, at least MIN_SHARE of its lines carry one
+#                   of those flags
 cmake_minimum_required(VERSION 3.21)
 foreach(var MODE NAME LMSWORLD WORLD_CHECK LMSEGO OUT_DIR SHIPPED_DIR)
     if(NOT DEFINED ${var})
@@ -180,19 +184,36 @@ elseif(MODE STREQUAL "regen")
         message(FATAL_ERROR "regenerated files differ from the shipped ones:${failed}\n"
             "(regenerated into ${dir})")
     endif()
-elseif(MODE STREQUAL "budget")
+elseif(MODE STREQUAL "budget" OR MODE STREQUAL "trust")
     generate(${dir}/s)
     set(mode_args "")
     if(DEFINED REPLAY_MODE)
         set(mode_args --mode ${REPLAY_MODE})
     endif()
-    execute_process(COMMAND ${LMSEGO} replay ${mode_args} --budget default ${dir}/s.lms
-        OUTPUT_FILE ${dir}/s.csv RESULT_VARIABLE rc ERROR_VARIABLE err)
+    # lmsworld casts every value at once unless asked for the LMS's timing
+    # (then REPLAY_TIMING=lms); REPLAY_TIMING=instant on an LMS-timed
+    # stream replays it without de-skewing.
+    if(NOT DEFINED REPLAY_TIMING)
+        set(REPLAY_TIMING instant)
+    endif()
+    execute_process(COMMAND ${LMSEGO} replay ${mode_args} --sweep ${REPLAY_TIMING} --budget default
+        ${dir}/s.lms OUTPUT_FILE ${dir}/s.csv RESULT_VARIABLE rc ERROR_VARIABLE err)
     if(NOT rc STREQUAL "0")
         message(FATAL_ERROR "lmsego replay failed (${rc}): ${err}")
     endif()
-    run_checked(${PYTHON} ${SCRIPT} ${dir}/s.pairs ${dir}/s.csv --exclude-flags 2
-        --max-failed ${MAX_FAILED})
+    if(MODE STREQUAL "budget")
+        set(bounds --max-failed ${MAX_FAILED})
+        if(DEFINED MIN_FAILED)
+            set(bounds --min-failed ${MIN_FAILED})
+        endif()
+        run_checked(${PYTHON} ${SCRIPT} ${dir}/s.pairs ${dir}/s.csv --exclude-flags 2 ${bounds})
+    else()
+        set(flag_args "")
+        if(DEFINED REQUIRE_FLAG)
+            set(flag_args --require-flag ${REQUIRE_FLAG} --min-share ${MIN_SHARE})
+        endif()
+        run_checked(${PYTHON} ${NEES} ${dir}/s.pairs ${dir}/s.csv --max-silent 0 --list ${flag_args})
+    endif()
 else()
     message(FATAL_ERROR "world_test.cmake: unknown MODE ${MODE}")
 endif()
