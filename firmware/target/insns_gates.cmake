@@ -37,8 +37,15 @@
 # (ego_cov.c, issue 16; charged 6 000 units): busy 1.25 -> 1.30 M, fast
 # 2.45 -> 2.53 M, its corridor 2.10 -> 2.17 M, campus 1.24 -> 1.27 M,
 # room_181 1.30 -> 1.33 M, corridor_181 0.71 -> 0.73 M (M4F's figures).
+# Raised 2026-12-03 (issue 16) for the real excerpts only: replayed here at
+# the stream's default period (their keyframes, 3 s apart, taken for 75 Hz
+# scans: motions of 40 m/s and 40 rad/s), the weak directions now take the
+# prediction's part and the scans are de-skewed with it, a different path
+# through the searches: aces 106 -> 148 M, intel 108 -> 121 M (M3). At their
+# own spacing (target_keyframes_*) nothing of it applies (intervals over
+# 0.2 s). The synthetic streams replay as cast (--sweep instant).
 set(LMSEGO_INSNS_GATE_MINSIZEREL_adversarial_361_cm 148160000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_aces_0_80 109140000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_aces_0_80 151820000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_busy_181_cm 1332000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_campus_181_cm 1305000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_circle_361_mm_noise 176130000)
@@ -46,7 +53,7 @@ set(LMSEGO_INSNS_GATE_MINSIZEREL_corridor_181_cm 746000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_corridor_361_cm_noise 109000000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_fast_361_cm 2598000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_fast_361_cm_corridor 2224000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_intel_0_80 110850000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_intel_0_80 124510000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_room_181_mm 1360000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_room_361_cm_faults 2400000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_table2_361_cm 61610000)

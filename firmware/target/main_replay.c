@@ -162,6 +162,9 @@ int main(void)
 #if defined(REPLAY_PERIOD_US)
     config.period_us = REPLAY_PERIOD_US; /* keyframes: seconds apart */
 #endif
+#if defined(REPLAY_SWEEP_INSTANT)
+    config.lms.timing = (uint8_t)EGO_LMS_TIMING_INSTANT; /* a simulator's stream */
+#endif
     config.observer = observe;
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, NULL};
