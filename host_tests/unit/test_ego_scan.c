@@ -347,12 +347,15 @@ static void test_ego_scan_deskews_an_interlaced_scan_in_motion(void)
     memset(&g_lms, 0, sizeof g_lms);
     g_lms.count = 361u;
     g_lms.unit = LMS_UNIT_MM;
+    /* Value k: turn k % 2, k / 2 degrees into it (whole degrees). */
     double mean = 0.0;
     for (unsigned k = 0u; k < 361u; k++) {
-        mean += ((k % 2u) * 13333.0 + (k / 2u) * 37.037) * 1e-6 / 361.0;
+        const unsigned degrees = k / 2u;
+        mean += ((k % 2u) * 13333.0 + (double)degrees * 37.037) * 1e-6 / 361.0;
     }
     for (unsigned k = 0u; k < 361u; k++) {
-        const double tau = (k % 2u) * 0.013333 + (k / 2u) * 37.037e-6 - mean;
+        const unsigned degrees = k / 2u;
+        const double tau = (k % 2u) * 0.013333 + (double)degrees * 37.037e-6 - mean;
         /* The vehicle at tau on its arc, the scanner 1 m ahead on it. */
         const double th = w * tau;
         const double px = v * sin(th) / w + mount * cos(th);
