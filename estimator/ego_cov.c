@@ -208,16 +208,37 @@ void ego_cov_unknown(ego_cov_t *cov)
     cov->tt = EGO_COV_SATURATED;
 }
 
+/* A variance that saturated is unknown: its covariances are 0 (else the
+ * saturated diagonal and the unsaturated rest could make the matrix
+ * indefinite: a negative NEES on the plaza). */
+static void unknown_where_saturated(ego_cov_t *cov)
+{
+    if (cov->xx == EGO_COV_SATURATED) {
+        cov->xy = 0;
+        cov->xt = 0;
+    }
+    if (cov->yy == EGO_COV_SATURATED) {
+        cov->xy = 0;
+        cov->yt = 0;
+    }
+    if (cov->tt == EGO_COV_SATURATED) {
+        cov->xt = 0;
+        cov->yt = 0;
+    }
+}
+
 void ego_cov_unmeasured_along(ego_cov_t *cov, fx_q2_30_t c, fx_q2_30_t s)
 {
     cov->xx = fx_sat_s32((int64_t)cov->xx + fx_shr_round_s64((int64_t)c * c, 30u));
     cov->xy = fx_sat_s32((int64_t)cov->xy + fx_shr_round_s64((int64_t)c * s, 30u));
     cov->yy = fx_sat_s32((int64_t)cov->yy + fx_shr_round_s64((int64_t)s * s, 30u));
+    unknown_where_saturated(cov);
 }
 
 void ego_cov_unmeasured_rotation(ego_cov_t *cov)
 {
     cov->tt = fx_sat_s32((int64_t)cov->tt + ((int64_t)1 << 30));
+    unknown_where_saturated(cov);
 }
 
 /* Symmetric 3x3 from xx, xy, xt, yy, yt, tt. */
@@ -495,4 +516,5 @@ void ego_cov_unmeasured_direction(ego_cov_t *cov, const ego_weak_t *weak, fx_q16
         const int64_t b = fx_sat_s32(u[col[i]]);
         *entry[i] = fx_sat_s32((int64_t)*entry[i] + fx_shr_round_s64(a * b, 30u));
     }
+    unknown_where_saturated(cov);
 }

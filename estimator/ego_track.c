@@ -632,6 +632,11 @@ static fx_q2_30_t weak_share(const ego_track_params_t *params, fx_q16_16_t resid
     return (fx_q2_30_t)((share < most) ? share : most);
 }
 
+void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius)
+{
+    run->radius = (radius < run->radius) ? radius : run->radius;
+}
+
 ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result)
 {
     memset(result, 0, sizeof *result);

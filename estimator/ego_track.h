@@ -139,6 +139,10 @@ bool ego_track_step(ego_track_run_t *run, ego_work_t *work);
  * is. */
 bool ego_track_resume(ego_track_run_t *run);
 
+/* Narrows a run just started to radius for its first pass (the next
+ * passes narrow from there as usual). */
+void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius);
+
 /* The result of a finished run (EGO_ITCP_ERR_FEW_MATCHES: too few
  * matches, or the equations were singular; the pose is then the last). */
 ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result);

@@ -8,10 +8,10 @@ line that claims a measured motion over one scan interval (flags without
 first, predicted, recovering or recovered) whose covariance is known, the
 normalised estimation error squared e^T C^-1 e (3 degrees of freedom: its
 mean is 3 for a consistent estimate, and 1 % of the pairs lie beyond 11.34,
-the 99 % ellipse) is summed apart for the lines flagged aperture (a
-corridor's length is the prediction's) and the others. Prints one line of
-each; --max-mean and --max-outside fail (exit 1) above them (not-aperture
-lines). --ref-sigma M,DEG adds the truth's own error (a reference that is
+the 99 % ellipse) is summed apart for the lines with a part not measured
+(flagged aperture or weak: a corridor's length is the prediction's) and
+the others. Prints one line of each; --max-mean and --max-outside fail
+(exit 1) above them (the others). --ref-sigma M,DEG adds the truth's own error (a reference that is
 itself an estimate, the real logs' corrected poses: that standard deviation
 in x, y and heading) to every covariance.
 
@@ -33,6 +33,10 @@ CHI2_3_99 = 11.345
 CHI2_3_999 = 16.266
 SKIP = 1 | 32 | 64 | 128  # first, predicted, recovering, recovered
 FIRST, RECOVERING, RECOVERED = 1, 64, 128
+# Lines with a part the scans did not measure (aperture, weak rotation,
+# translation, coupled): 1 m^2 or 1 rad^2 along it, a nearly singular
+# covariance whose four printed digits cannot be inverted; counted apart.
+UNMEASURED = 2 | 0x100 | 0x200 | 0x400
 TRUST = 2 | 8 | 16 | 32 | 0x100 | 0x200 | 0x400 | 0x800
 
 
@@ -182,10 +186,10 @@ def main():
             continue
         n = nees(c, error_of(r, t))
         if n is not None:
-            (aperture if flags & 2 else plain).append(n)
+            (aperture if flags & UNMEASURED else plain).append(n)
     line, mean, outside = summary('measured', plain)
     print(line)
-    print(summary('aperture', aperture)[0])
+    print(summary('partly unmeasured (aperture, weak)', aperture)[0])
     bad, flagged, covered, silent = silent_failures(truth, rows, a.fail_m, a.fail_deg, ref)
     print('failures (> %.2f m or %.1f deg): %d, flagged %d, within the 99.9 %% ellipse %d, '
           'silent %d of %d lines' % (a.fail_m, a.fail_deg, bad, flagged, covered, len(silent), len(rows)))
