@@ -1076,6 +1076,7 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
     }
     state->lost = state->lost && !matched;
     state->along_predicted = matched && had_prediction && (out->flags & EGO_FLAG_APERTURE) != 0u;
+    state->weak = matched && (out->flags & (EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED)) != 0u;
     state->last = cur;
     state->last_time_us = time_us;
 }
@@ -1318,6 +1319,9 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
                     &params->track);
     if (kind == START_NARROW) {
         ego_track_narrow(&state->tracking, NARROW_RADIUS);
+    }
+    if (state->weak) {
+        ego_track_hold_weak(&state->tracking);
     }
     const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
@@ -1610,6 +1614,7 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->bridge = false;
     state->lost = false;
     state->along_predicted = false;
+    state->weak = false;
     state->suspect = false;
 }
 

@@ -238,6 +238,8 @@ typedef struct {
                                 window is the widest, whatever the motion was */
     bool refined[2];         /* the slot has robust tangents and the search's histogram */
     bool have_previous;      /* the time of the previous scan, for the budget */
+    bool weak;               /* the last motion had a weak translation (its part the
+                                prediction's): tracking holds it weak (ego_track.h) */
     bool suspect;            /* the motion changed faster than a vehicle can since
                                 trusted (EGO_FLAG_SUSPECT until it is back) */
     ego_work_t work;         /* this scan's meter */

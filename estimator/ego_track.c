@@ -632,6 +632,11 @@ static fx_q2_30_t weak_share(const ego_track_params_t *params, fx_q16_16_t resid
     return (fx_q2_30_t)((share < most) ? share : most);
 }
 
+void ego_track_hold_weak(ego_track_run_t *run)
+{
+    run->weak_held = true;
+}
+
 void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius)
 {
     run->radius = (radius < run->radius) ? radius : run->radius;
@@ -677,7 +682,8 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
         }
         ego_cov_estimate(groups, g[0].sum_sq + g[1].sum_sq, run->params->weighted, &result->cov);
         ego_cov_weakest(groups, run->main_direction, run->current->rms_range,
-                        weak_share(run->params, result->residual, run->current->spacing_arm),
+                        weak_share(run->params, result->residual, run->current->spacing_arm) *
+                            (run->weak_held ? 2 : 1),
                         &result->weak);
     }
     result->weak_rotation = run->weak_rotation;
