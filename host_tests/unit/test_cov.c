@@ -146,6 +146,14 @@ static void test_cov_corridor_length_is_not_measured(void)
     assert_close(want, &got, "corridor");
 }
 
+/* Scenes of the weak-direction test: 2 000; 400 under the emulator
+ * (software doubles: the Jacobi oracle cost the CI half a minute there). */
+#if defined(LMSEGO_UNIT_ON_TARGET)
+#define WEAK_TRIALS 400u
+#else
+#define WEAK_TRIALS 2000u
+#endif
+
 /* The weak direction (ego_cov_weakest) against its oracle on random
  * scenes whose weakest direction stands out (the next eigenvalue at least
  * four times larger: where det / minors is the smallest eigenvalue): the
@@ -156,7 +164,7 @@ static void test_cov_weakest_matches_its_oracle(void)
 {
     uint32_t seed = 77u;
     unsigned compared = 0u;
-    for (unsigned trial = 0u; trial < 2000u; trial++) {
+    for (unsigned trial = 0u; trial < WEAK_TRIALS; trial++) {
         matches_t m;
         memset(&m, 0, sizeof m);
         const unsigned n0 = tu_rand_range(&seed, 20u, 300u);
@@ -202,7 +210,7 @@ static void test_cov_weakest_matches_its_oracle(void)
     char seen[64];
     (void)snprintf(seen, sizeof seen, "%u weak scenes compared", compared);
     TEST_MESSAGE(seen);
-    TEST_ASSERT_TRUE(compared > 100u);
+    TEST_ASSERT_TRUE(compared > WEAK_TRIALS / 20u);
 }
 
 /* The three kinds from their scenes: a corridor's length (translation
