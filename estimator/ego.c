@@ -169,14 +169,6 @@ static void keep_prediction_along(ego_pose_t *pose, const ego_pose_t *predicted,
     pose->y = fx_add_q16(pose->y, fx_mul_q16_q30(along, s));
 }
 
-/* The turn in Q16.16 rad of a binary angle difference, and back
- * (BAM_PER_RAD_Q16_X128: 2^32 / 2 pi / 2^16, times 128). */
-#define BAM_PER_RAD_Q16_X128 1335088
-static int64_t rad_of_turn(int32_t turn)
-{
-    return (int64_t)turn * 128 / BAM_PER_RAD_Q16_X128;
-}
-
 /* The pose keeps its part across the weak direction and takes the
  * prediction's along it, in the metric of ego_cov_weakest (the turn times
  * the lever). */
@@ -186,12 +178,12 @@ static void keep_prediction_on(ego_pose_t *pose, const ego_pose_t *predicted,
     const int64_t l = ego_cov_lever(lever);
     const int64_t d[3] = {(int64_t)fx_sub_q16(predicted->x, pose->x),
                           (int64_t)fx_sub_q16(predicted->y, pose->y),
-                          rad_of_turn((int32_t)(predicted->theta - pose->theta)) * l / 65536};
+                          fx_rad_q16_of_turn((int32_t)(predicted->theta - pose->theta)) * l / 65536};
     const int64_t along = (d[0] * weak->dir[0] + d[1] * weak->dir[1] + d[2] * weak->dir[2]) / 128;
     pose->x = fx_sat_s32((int64_t)pose->x + along * weak->dir[0] / 128);
     pose->y = fx_sat_s32((int64_t)pose->y + along * weak->dir[1] / 128);
     const int64_t turn_q16 = (along * weak->dir[2] / 128) * 65536 / l;
-    pose->theta += (fx_bam32_t)(uint32_t)fx_sat_s32(turn_q16 * BAM_PER_RAD_Q16_X128 / 128);
+    pose->theta += (fx_bam32_t)(uint32_t)fx_sat_s32(turn_q16 * FX_BAM_PER_RAD_Q16_X128 / 128);
 }
 
 /* Is one group too small to be judged on its own: under a fifth of the
@@ -953,19 +945,13 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
         }
         ego_cov_unmeasured_direction(&out->cov, &r->weak, lever);
     }
-    if (r->weak.kind == EGO_WEAK_ROTATION && !r->weak_rotation) {
-        /* The eigen test's turn (the spacing test's is below). */
+    if (r->weak_rotation || r->weak.kind == EGO_WEAK_ROTATION) {
+        /* Every surface faces the scanner (the spacing test: the
+         * prediction's turn at any interval) or the eigen test found the
+         * turn weak (over a short one): the turn is the prediction's
+         * (flagged and unmeasured either way). */
         out->flags |= EGO_FLAG_WEAK_ROTATION;
-        if (predicts) {
-            out->pose.theta = predicted->theta;
-        }
-        ego_cov_unmeasured_rotation(&out->cov);
-    }
-    if (r->weak_rotation) {
-        /* Every surface faces the scanner: the turn is the prediction's,
-         * if there is one (flagged either way). */
-        out->flags |= EGO_FLAG_WEAK_ROTATION;
-        if (have_prediction) {
+        if (r->weak_rotation ? have_prediction : predicts) {
             out->pose.theta = predicted->theta;
         }
         ego_cov_unmeasured_rotation(&out->cov);
@@ -1236,11 +1222,6 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     uint32_t step = 1u;
     if (!plain) {
         step = beams_per_point(state, scan, valid, per_point);
-        const uint64_t first_step = ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u);
-        const uint64_t spacing = first_step * step;
-        prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
-                                ? (fx_bam32_t)spacing
-                                : prep.beam_spacing;
     }
     if (!timed && ego_range_passes(scan) > 1u) {
         /* No motion to de-skew an interlaced scan with (a cold start):
@@ -1248,6 +1229,9 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
          * 30 m/s two passes 13.3 ms apart are two images 0.4 m apart). */
         const uint32_t passes = ego_range_passes(scan);
         step = ((step + passes - 1u) / passes) * passes;
+    }
+    if (step > 1u) {
+        /* Every step-th beam: the preparation thins to that spacing. */
         const uint64_t spacing = (ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u)) * (uint64_t)step;
         prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
                                 ? (fx_bam32_t)spacing

@@ -383,10 +383,6 @@ static int64_t mul_q16(int64_t v, int64_t f)
     return fx_shr_round_s64(v * f, 16u);
 }
 
-static int64_t lever_of(fx_q16_16_t lever)
-{
-    return ego_cov_lever(lever);
-}
 
 void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, fx_q16_16_t lever,
                      fx_q2_30_t min_share, ego_weak_t *weak)
@@ -432,7 +428,7 @@ void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, 
     for (unsigned i = 0u; i < 6u; i++) {
         m[i] = (g[0][i] * group[0].n + g[1][i] * group[1].n) / n;
     }
-    const int64_t l = lever_of(lever);
+    const int64_t l = ego_cov_lever(lever);
     const int64_t e00 = m[0];
     const int64_t e01 = m[1];
     const int64_t e11 = m[3];
@@ -504,7 +500,7 @@ void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, 
 void ego_cov_unmeasured_direction(ego_cov_t *cov, const ego_weak_t *weak, fx_q16_16_t lever)
 {
     /* u = (dir_x, dir_y, dir_t / lever) in Q30 of SI units; u u^T added. */
-    const int64_t l = lever_of(lever);
+    const int64_t l = ego_cov_lever(lever);
     const int64_t u[3] = {(int64_t)weak->dir[0] * ((int64_t)1 << 23), (int64_t)weak->dir[1] * ((int64_t)1 << 23),
                           (int64_t)weak->dir[2] * ((int64_t)1 << 39) / l};
     fx_q2_30_t *const entry[6] = {&cov->xx, &cov->xy, &cov->xt, &cov->yy, &cov->yt, &cov->tt};

@@ -121,6 +121,16 @@ FX_INLINE fx_q16_16_t fx_sub_q16(fx_q16_16_t a, fx_q16_16_t b)
     return fx_sat_s32((int64_t)a - b);
 }
 
+/* 2^32 / (2 pi) / 2^16 = 10430.378: radians Q16.16 -> binary angle, as
+ * (x * FX_BAM_PER_RAD_Q16_X128) / 128. */
+#define FX_BAM_PER_RAD_Q16_X128 1335088
+
+/* A turn (a binary angle difference) in Q16.16 radians, truncated. */
+FX_INLINE int64_t fx_rad_q16_of_turn(int32_t turn)
+{
+    return (int64_t)turn * 128 / FX_BAM_PER_RAD_Q16_X128;
+}
+
 /* Signed difference a - b of two binary angles, in [-half, half) turn, as
  * a signed binary angle (2^31 = 180 deg). Defined for every input (no
  * implementation-defined unsigned -> signed conversion). */

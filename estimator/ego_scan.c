@@ -96,9 +96,6 @@ static bool is_occlusion(const ego_prep_params_t *p, const sensor_point_t *a,
     return lhs < scale * (int64_t)ab;
 }
 
-/* Binary angle per Q16.16 radian, times 128 (2^32 / 2 pi / 2^16). */
-#define BAM_PER_RAD_Q16_X128 1335088
-
 ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                    ego_scan_t *scan)
 {
@@ -185,7 +182,7 @@ ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const eg
             fx_q2_30_t ts;
             fx_q2_30_t tc;
             fx_sincos(beam + (fx_bam32_t)(uint32_t)m.turn, &ts, &tc);
-            const int64_t turn_q16 = (int64_t)m.turn * 128 / BAM_PER_RAD_Q16_X128;
+            const int64_t turn_q16 = fx_rad_q16_of_turn(m.turn);
             const int64_t ox = (int64_t)in->origin_x - (turn_q16 * in->origin_y) / 65536;
             const int64_t oy = (int64_t)in->origin_y + (turn_q16 * in->origin_x) / 65536;
             scan->x[i] = fx_sat_s32(ox + fx_mul_q16_q30(r, tc) + m.x);

@@ -27,10 +27,6 @@ static uint32_t units_of(uint32_t base, const point_work_t *w)
            w->roots * EGO_COST_TRACK_NORMAL;
 }
 
-/* 2^32 / (2 pi) / 2^16 = 10430.378: radians Q16.16 -> binary angle, as
- * (x * 1335088) >> 7. */
-#define BAM_PER_RAD_Q16_X128 1335088
-
 void ego_track_defaults(ego_track_params_t *params)
 {
     memset(params, 0, sizeof *params);
@@ -513,7 +509,7 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
         run->failed = true;
         return;
     }
-    const int64_t turn = (dtheta * BAM_PER_RAD_Q16_X128) / 128;
+    const int64_t turn = (dtheta * FX_BAM_PER_RAD_Q16_X128) / 128;
     run->pose.x = fx_sat_s32((int64_t)run->pose.x + dx);
     run->pose.y = fx_sat_s32((int64_t)run->pose.y + dy);
     run->pose.theta += (fx_bam32_t)(uint32_t)fx_sat_s32(turn);
