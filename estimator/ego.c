@@ -959,66 +959,98 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
     return true;
 }
 
-/* Reach of the dynamics check: longer intervals (keyframes) are not
- * checked (1.5 g over a second is already 7 m). */
+/* The dynamics check (EGO_FLAG_SUSPECT): a constant-velocity filter of
+ * the translation's velocity, fed the measured lines that pass it. Its
+ * velocity drifts by DRIFT_ACCELERATION a second at one sigma (the limit
+ * EGO_MAX_ACCELERATION at three); a line whose velocity is beyond the
+ * gate of the filter's and its own variance is suspect, and so are the
+ * next ones until one is within the gate again (which widens with the
+ * time since the filter's last line). A vague line (cars in the match
+ * window) moves the filter by its small weight only: a slide onto cars
+ * moving with the vehicle, each line within reach of the last, shows
+ * against the filter. The turn is not judged: a path's curvature may jump
+ * (a synthetic world's arcs; a robot spinning up), and a turn no scan
+ * supports shows in the weak-rotation test. */
+#define DRIFT_ACCELERATION (EGO_MAX_ACCELERATION / 3) /* Q16 m/s^2 */
+/* Innovation e beyond the gate: |e|^2 > 6.9 (P + R), the 99.9 % of
+ * chi^2 with two degrees of freedom (13.8) over the two axes that share
+ * the variances' sums P and R. */
+#define GATE_X10 69u
+/* Intervals (keyframes) and references older than this are not judged
+ * by: 1.5 g over a second is already 15 m/s. */
 #define DYNAMICS_MAX_DT_US 1000000u
-/* Standard deviations of the measurement (and of the one it is compared
- * with) that an innovation may still be: 3.3 sigma (99.9 %) of a
- * difference of two, sqrt(2) 3.3. */
-#define DYNAMICS_SIGMAS_X10 47
+/* Variances above this (Q16 (m/s)^2, 65536 (m/s)^2) are not measured. */
+#define VAR_UNKNOWN UINT32_MAX
 
 static uint64_t variance_of(fx_q2_30_t v)
 {
     return (v > 0) ? (uint64_t)v : 0u;
 }
 
-/* How far the translation over dt may move from ref's (over dt too)
- * without being suspect: what the limit reaches in dt * span (span_us
- * since ref was measured: the speed can keep changing at the limit) times
- * dt, plus DYNAMICS_SIGMAS of the output's own uncertainty (Q16.16 m).
- * The turn is not judged: a path's curvature may jump (a synthetic
- * world's arcs; a robot spinning up), and a turn no scan supports shows
- * in the weak-rotation test. */
-static bool within_reach(const ego_output_t *out, const ego_pose_t *ref, uint64_t span_us)
+/* The variance of the line's velocity, x and y together, Q16 (m/s)^2;
+ * VAR_UNKNOWN where it saturated or the translation was not measured. */
+static uint32_t velocity_variance(const ego_output_t *out)
 {
-    const uint64_t dt = out->dt_us;
-    const uint64_t span = (span_us < DYNAMICS_MAX_DT_US) ? span_us : DYNAMICS_MAX_DT_US;
-    /* a [Q16 /s^2] * span * dt [us^2] / 10^12: below 2^24 * 2^40, fits. */
-    const uint64_t reach = (uint64_t)EGO_MAX_ACCELERATION * span * dt / 1000000000000ull;
-    const uint64_t var = variance_of(out->cov.xx) + variance_of(out->cov.yy); /* Q30 m^2 */
-    const uint64_t sigmas = (uint64_t)fx_sqrt_u64(var << 2) * DYNAMICS_SIGMAS_X10 / 10u; /* Q16 */
-    const int64_t ex = (int64_t)out->pose.x - ref->x;
-    const int64_t ey = (int64_t)out->pose.y - ref->y;
-    return fx_sqrt_u64((uint64_t)(ex * ex + ey * ey)) <= reach + sigmas;
+    if (out->cov.xx == EGO_COV_SATURATED || out->cov.yy == EGO_COV_SATURATED) {
+        return VAR_UNKNOWN;
+    }
+    const uint64_t dt = out->dt_us;                                    /* > 0 */
+    const uint64_t var = variance_of(out->cov.xx) + variance_of(out->cov.yy); /* Q30 m^2, < 2^33 */
+    const uint64_t per_s = var * US_PER_S / dt;                        /* < 2^53 */
+    if (per_s >= ((uint64_t)1 << 43)) {
+        return VAR_UNKNOWN;
+    }
+    const uint64_t q16 = (per_s * US_PER_S / dt) >> 14;
+    return (q16 < VAR_UNKNOWN) ? (uint32_t)q16 : VAR_UNKNOWN;
 }
 
-/* A measured motion that a trusted one predicted (had_prediction) must be
- * within one interval's reach of it; once it was not, the line and the
- * next ones are suspect until a motion is back within reach of the last
- * trusted one (the reach growing with the time since: what the vehicle
- * could have done meanwhile). A wrong fit that slides away (cars moving
- * with the vehicle holding it) says so instead of standing still
- * silently. */
-static void judge_dynamics(ego_state_t *state, bool matched, bool had_prediction, uint32_t time_us,
-                           ego_output_t *out)
+/* The filter's variance grown by its drift over span_us (Q16 (m/s)^2). */
+static uint64_t drifted_variance(const ego_velocity_ref_t *ref, uint32_t span_us)
 {
-    if (!matched || out->dt_us == 0u || out->dt_us > DYNAMICS_MAX_DT_US) {
+    const uint64_t drift = (uint64_t)DRIFT_ACCELERATION * span_us / US_PER_S; /* Q16 m/s */
+    return (uint64_t)ref->var + ((drift * drift) >> 16);
+}
+
+/* Judges a matched line's translation against the filter and feeds it
+ * in when it passes. A line whose translation is partly the prediction's
+ * (aperture, weak) says nothing either way. */
+static void judge_dynamics(ego_state_t *state, bool matched, uint32_t time_us, ego_output_t *out)
+{
+    const uint16_t unmeasured = EGO_FLAG_APERTURE | EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED;
+    const uint32_t r = velocity_variance(out);
+    ego_velocity_ref_t *ref = &state->reference;
+    const uint32_t span = time_us - ref->time_us;
+    if (state->have_reference && span > DYNAMICS_MAX_DT_US) {
+        state->have_reference = false;
+        state->suspect = false;
+    }
+    if (!matched || out->dt_us == 0u || out->dt_us > DYNAMICS_MAX_DT_US ||
+        (out->flags & unmeasured) != 0u || r == VAR_UNKNOWN) {
+        out->flags |= state->suspect ? EGO_FLAG_SUSPECT : 0u;
         return;
     }
-    const uint16_t unmeasured = EGO_FLAG_APERTURE | EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED;
-    if (state->suspect && (out->flags & unmeasured) == 0u) {
-        /* (A line whose translation is partly the prediction's says
-         * nothing either way.) */
-        const ego_pose_t ref = scale_motion(&state->trusted, state->trusted_dt_us, out->dt_us);
-        state->suspect = !within_reach(out, &ref, time_us - state->trusted_time_us);
-    } else if (!state->suspect && had_prediction && state->motion_dt_us != 0u) {
-        const ego_pose_t ref = scale_motion(&state->motion, state->motion_dt_us, out->dt_us);
-        if (!within_reach(out, &ref, out->dt_us)) {
-            state->suspect = true;
-            state->trusted = state->motion;
-            state->trusted_dt_us = state->motion_dt_us;
-            state->trusted_time_us = state->last_time_us;
-        }
+    if (!state->have_reference) {
+        ref->vx = out->vx;
+        ref->vy = out->vy;
+        ref->var = r;
+        ref->time_us = time_us;
+        state->have_reference = true;
+        return;
+    }
+    const uint64_t p = drifted_variance(ref, span);
+    const uint64_t total = p + r; /* below 2^33 */
+    const int64_t ex = fx_sat_s32((int64_t)out->vx - ref->vx); /* its square in int64 */
+    const int64_t ey = fx_sat_s32((int64_t)out->vy - ref->vy);
+    const uint64_t e_sq = ((uint64_t)(ex * ex) >> 16) + ((uint64_t)(ey * ey) >> 16); /* Q16 */
+    state->suspect = e_sq * 10u > GATE_X10 * total;
+    if (!state->suspect) {
+        /* The inverse-variance mean of the filter and the line. */
+        const int64_t gain = (total == 0u) ? 0 : (int64_t)((p << 16) / total); /* Q16, <= 1 */
+        ref->vx = fx_sat_s32(ref->vx + ((ex * gain) >> 16));
+        ref->vy = fx_sat_s32(ref->vy + ((ey * gain) >> 16));
+        const uint64_t share = (total == 0u) ? 0u : ((uint64_t)r << 16) / total; /* Q16 */
+        ref->var = (uint32_t)((p * share) >> 16); /* p r / (p + r) <= r */
+        ref->time_us = time_us;
     }
     out->flags |= state->suspect ? EGO_FLAG_SUSPECT : 0u;
 }
@@ -1033,7 +1065,7 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                     ego_output_t *out, bool tracked, bool matched,
                     const ego_pose_t *predicted, bool had_prediction)
 {
-    judge_dynamics(state, matched, had_prediction, time_us, out);
+    judge_dynamics(state, matched, time_us, out);
     const bool close = matched && close_to(&out->pose, predicted, params);
     if (!matched) {
         /* The line is the prediction: it says nothing new about the
@@ -1599,6 +1631,7 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->lost = false;
     state->along_predicted = false;
     state->weak = false;
+    state->have_reference = false;
     state->suspect = false;
 }
 

@@ -101,12 +101,12 @@
                                              axis says which */
 #define EGO_FLAG_WEAK_COUPLED 0x400u     /* ... a translation with a turn (sliding along a
                                              ring seen off its centre while turning) */
-#define EGO_FLAG_SUSPECT 0x800u          /* the match may be wrong: the translation changed
-                                             faster than a vehicle can (ego_config.h)
-                                             since the last trusted motion and has not
-                                             come back to within reach of it, or a
-                                             search's answer fits under half the scan
-                                             (under 0.7 with a turn no histogram
+#define EGO_FLAG_SUSPECT 0x800u          /* the match may be wrong: its velocity is
+                                             beyond the gate of the dynamics filter (a
+                                             vehicle's acceleration, ego_config.h) and no
+                                             measured line has come back within it since,
+                                             or a search's answer fits under half the
+                                             scan (under 0.7 with a turn no histogram
                                              proposed) */
 
 typedef struct {
@@ -207,6 +207,15 @@ typedef struct {
     };
 } ego_search_t;
 
+/* The dynamics check's reference (ego.c, judge_dynamics): the velocity of
+ * the translation, filtered over the lines that passed the check. */
+typedef struct {
+    fx_q16_16_t vx;   /* m/s, in the frame of the last scan of its last line */
+    fx_q16_16_t vy;
+    uint32_t var;     /* its variance, x and y together, (m/s)^2 in Q16.16 */
+    uint32_t time_us; /* of the scan its last line ended at */
+} ego_velocity_ref_t;
+
 typedef struct {
     /* Private. */
     ego_scan_t slot[2];
@@ -218,10 +227,7 @@ typedef struct {
     ego_pose_t before;       /* the motion before the last search, over before_dt_us
                                 (0: none): a start of the bridge after it */
     uint32_t before_dt_us;
-    ego_pose_t trusted;      /* while suspect: the motion before the implausible
-                                change, over trusted_dt_us */
-    uint32_t trusted_dt_us;
-    uint32_t trusted_time_us; /* the time of the scan it ended at */
+    ego_velocity_ref_t reference; /* of the dynamics check, when have_reference */
     fx_bam32_t main_direction[2]; /* of each slot's histogram: its fullest bin */
     uint32_t previous_time_us;
     /* The small ones together (no padding between them: RAM is short). */
@@ -240,8 +246,9 @@ typedef struct {
     bool have_previous;      /* the time of the previous scan, for the budget */
     bool weak;               /* the last motion had a weak translation (its part the
                                 prediction's): tracking holds it weak (ego_track.h) */
-    bool suspect;            /* the motion changed faster than a vehicle can since
-                                trusted (EGO_FLAG_SUSPECT until it is back) */
+    bool have_reference;     /* a measured line within the last second */
+    bool suspect;            /* the last measured motion was beyond the dynamics
+                                check's reach (EGO_FLAG_SUSPECT until one is back) */
     ego_work_t work;         /* this scan's meter */
     union { /* one at a time */
         ego_track_run_t tracking;         /* the registration, or the coarse search's prober */

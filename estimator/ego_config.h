@@ -24,10 +24,11 @@
 #define EGO_TFIT_MAX_HALF_WINDOW 5u
 #endif
 
-/* What the vehicle can do (ego.c, EGO_FLAG_SUSPECT): a translation that
- * changed faster than this since the last trusted one, beyond its own
- * uncertainty, is suspect. 15 m/s^2, Q16.16 (1.5 g: no car brakes
- * harder). A sensor carried by something nimbler sets its own. */
+/* What the vehicle can do (ego.c, EGO_FLAG_SUSPECT): the dynamics filter
+ * lets its velocity drift by a third of this a second at one sigma (this
+ * at three), and a line beyond its gate is suspect. 15 m/s^2, Q16.16
+ * (1.5 g: no car brakes harder). A sensor carried by something nimbler
+ * sets its own. */
 #ifndef EGO_MAX_ACCELERATION
 #define EGO_MAX_ACCELERATION (15 * 65536)
 #endif

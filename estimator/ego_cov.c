@@ -24,6 +24,24 @@ typedef struct {
  * mean NEES of the noisy synthetic sequences was 4.2-6.7 with 6-17 % of
  * the pairs outside the 99 % ellipse; with 2, 2.1-3.4 and 0.3-3.4 %. */
 #define MODEL_FACTOR 2
+/* A group's variance is pulled towards the pool's as if by this many
+ * matches of it: the non-main group of a corridor may hold two, and the
+ * groups weigh equally. */
+#define PRIOR_MATCHES 4
+/* The variance a rounding to Q2.30 may hide: three entries of a row each
+ * half an LSB off shift an eigenvalue by at most 1.5 LSB. */
+#define ROUNDING_GUARD 2
+
+/* 1 / sqrt(kappa) (ego_cov.h) in Q15 at r = i / 64, i = 0 .. 20: the
+ * normal noise cut at a (a from 8 down to 0.6) has r = (1 - t / P) / a^2,
+ * 1 / sqrt(kappa) = 1 - t / P, with P = erf(a / sqrt 2) its share inside
+ * and t = 2 a phi(a) (host_tests/unit/test_cov.c checks each entry against
+ * that). Linear between entries, within 0.6 % of kappa; beyond r = 20/64,
+ * and wherever below 1/4 (kappa 16), 1/4. */
+static const uint16_t cut_root[21] = {32768, 32768, 32768, 32765, 32733, 32608, 32328, 31849,
+                                      31150, 30220, 29056, 27660, 26032, 24176, 22094, 19788,
+                                      17259, 14508, 11534, 8337,  4916};
+#define CUT_ROOT_MIN 8192 /* 1/4 in Q15 */
 
 /* An axis's unit is at most 2^14 times or below its SI one (each
  * entry of A below 2^56 in Q32, ego_track.c). */
@@ -227,12 +245,26 @@ static void unknown_where_saturated(ego_cov_t *cov)
     }
 }
 
+/* Each variance that is known carries ROUNDING_GUARD LSB more: the
+ * rounded matrix stays positive definite (its covariances within half an
+ * LSB of their value each), and a consumer can invert it. */
+static void guard_rounding(ego_cov_t *cov)
+{
+    fx_q2_30_t *variance[3] = {&cov->xx, &cov->yy, &cov->tt};
+    for (unsigned i = 0u; i < 3u; i++) {
+        if (*variance[i] != EGO_COV_SATURATED) {
+            *variance[i] = fx_sat_s32((int64_t)*variance[i] + ROUNDING_GUARD);
+        }
+    }
+    unknown_where_saturated(cov);
+}
+
 void ego_cov_unmeasured_along(ego_cov_t *cov, fx_q2_30_t c, fx_q2_30_t s)
 {
     cov->xx = fx_sat_s32((int64_t)cov->xx + fx_shr_round_s64((int64_t)c * c, 30u));
     cov->xy = fx_sat_s32((int64_t)cov->xy + fx_shr_round_s64((int64_t)c * s, 30u));
     cov->yy = fx_sat_s32((int64_t)cov->yy + fx_shr_round_s64((int64_t)s * s, 30u));
-    unknown_where_saturated(cov);
+    guard_rounding(cov);
 }
 
 void ego_cov_unmeasured_rotation(ego_cov_t *cov)
@@ -256,7 +288,48 @@ static void set_symmetric(scaled3_t *a, const int64_t s[6], int32_t e)
     a->e = e;
 }
 
-void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weighted,
+uint32_t ego_cov_cut_factor(uint32_t r_q16)
+{
+    const uint32_t last = (uint32_t)(sizeof cut_root / sizeof cut_root[0]) - 1u;
+    const uint32_t i = r_q16 >> 10; /* steps of 1/64 */
+    int64_t root = CUT_ROOT_MIN;
+    if (i < last) {
+        const int64_t frac = (int64_t)(r_q16 & 1023u);
+        root = ((int64_t)cut_root[i] * (1024 - frac) + (int64_t)cut_root[i + 1u] * frac + 512) / 1024;
+    }
+    root = (root > CUT_ROOT_MIN) ? root : CUT_ROOT_MIN;
+    return (uint32_t)((((int64_t)1 << 46) + root * root / 2) / (root * root));
+}
+
+/* v times a Q16 factor f (0 <= f <= 2^16) without overflow for any v. */
+static int64_t times_q16(int64_t v, int64_t f)
+{
+    return (v / 65536) * f + fx_shr_round_s64((v % 65536) * f, 16u);
+}
+
+/* The variance of each group's residuals (Q32 m^2, ego_cov.h), into var. */
+static void group_variances(const int64_t n[2], const uint64_t sum_sq[2], fx_q16_16_t cut,
+                            int64_t var[2])
+{
+    const int64_t total = n[0] + n[1];
+    const int64_t all = (int64_t)(sum_sq[0] + sum_sq[1]); /* below 2^46 (|d| < 4 m) */
+    const int64_t cut_sq = (int64_t)cut * cut;
+    for (unsigned k = 0u; k < 2u; k++) {
+        /* (sum_k + PRIOR all / total) / (n_k + PRIOR), then times
+         * MODEL_FACTOR total / (total - 3): one division each, exact to
+         * an LSB of a millimetre's square. */
+        const int64_t pulled = (int64_t)sum_sq[k] * total + PRIOR_MATCHES * all;
+        const int64_t mean_sq = pulled / (total * (n[k] + PRIOR_MATCHES));
+        int64_t v = pulled * MODEL_FACTOR / ((n[k] + PRIOR_MATCHES) * (total - 3));
+        if (cut > 0) {
+            const int64_t r = (mean_sq * 65536) / cut_sq;
+            v = fx_shr_round_s64(v * (int64_t)ego_cov_cut_factor((uint32_t)((r < 65536) ? r : 65536)), 16u);
+        }
+        var[k] = v;
+    }
+}
+
+void ego_cov_estimate(const ego_cov_group_t group[2], fx_q16_16_t cut, bool weighted,
                       ego_cov_t *cov)
 {
     ego_cov_unknown(cov);
@@ -264,12 +337,14 @@ void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weig
      * arms' Q30 up to the lever arms' Q32 m^2). */
     int64_t g[2][6];
     int64_t n[2];
+    uint64_t sum_sq[2];
     for (unsigned k = 0u; k < 2u; k++) {
         static const unsigned up[6] = {4u, 4u, 2u, 4u, 2u, 0u};
         for (unsigned i = 0u; i < 6u; i++) {
             g[k][i] = group[k].a[i] * ((int64_t)1 << up[i]); /* below 2^56 (ego_track.c) */
         }
         n[k] = group[k].n;
+        sum_sq[k] = group[k].sum_sq;
     }
     if (!weighted) { /* one pool of matches */
         for (unsigned i = 0u; i < 6u; i++) {
@@ -278,22 +353,30 @@ void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weig
         }
         n[0] += n[1];
         n[1] = 0;
+        sum_sq[0] += sum_sq[1];
+        sum_sq[1] = 0u;
     }
     const int64_t total = n[0] + n[1];
     if (total <= 3) {
         return;
     }
-    /* A = sum A_g / n_g and S = sum A_g / n_g^2 (Q32). */
+    int64_t var[2];
+    group_variances(n, sum_sq, cut, var);
+    /* The covariance is scaled by the larger variance at the end, each
+     * group's part of S by its share of it (Q16). */
+    const int64_t variance = (var[0] > var[1]) ? var[0] : var[1];
+    /* A = sum A_g / n_g and S = sum share_g A_g / n_g^2 (Q32). */
     int64_t a[6] = {0, 0, 0, 0, 0, 0};
     int64_t s[6] = {0, 0, 0, 0, 0, 0};
     for (unsigned k = 0u; k < 2u; k++) {
         if (n[k] <= 0) {
             continue;
         }
+        const int64_t share = (variance > 0) ? (var[k] * 65536) / variance : 65536;
         for (unsigned i = 0u; i < 6u; i++) {
             const int64_t mean = g[k][i] / n[k];
             a[i] += mean;
-            s[i] += mean / n[k];
+            s[i] += times_q16(mean / n[k], share);
         }
     }
     /* The registration's damping (ego_track.c, solve): a thousandth of the
@@ -329,10 +412,8 @@ void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weig
     if (!inverse(am, &inv)) {
         return;
     }
-    /* The residuals' part: s^2 A^-1 S A^-1, s^2 = MODEL_FACTOR sum d^2 /
-     * (n - 3) (Q32). */
+    /* The residuals' part: A^-1 S A^-1 times the variance (Q32). */
     scaled3_t c = product(product(inv, sm), inv);
-    const int64_t variance = (int64_t)(sum_sq / (uint64_t)(total - 3)) * MODEL_FACTOR;
     c = scale_columns(c, variance, variance, variance, -32);
     /* The start's part: where the equations barely constrain the pose the
      * damping keeps it at the start (the prediction), whose error is not
@@ -362,6 +443,7 @@ void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weig
     cov->xx = (cov->xx < 0) ? 0 : cov->xx;
     cov->yy = (cov->yy < 0) ? 0 : cov->yy;
     cov->tt = (cov->tt < 0) ? 0 : cov->tt;
+    guard_rounding(cov);
 }
 
 /* Lever arms below this are taken as this: a scan of a small room still
@@ -512,5 +594,5 @@ void ego_cov_unmeasured_direction(ego_cov_t *cov, const ego_weak_t *weak, fx_q16
         const int64_t b = fx_sat_s32(u[col[i]]);
         *entry[i] = fx_sat_s32((int64_t)*entry[i] + fx_shr_round_s64(a * b, 30u));
     }
-    unknown_where_saturated(cov);
+    guard_rounding(cov);
 }

@@ -6,18 +6,27 @@
  * groups weighing equally (eq. 10): A = sum_g A_g / n_g, b = sum_g b_g /
  * n_g, where A_g = sum J J^T and b_g = sum J d over the group's n_g
  * matches, J = (nx, ny, arm) (the match's unit normal and the lever arm of
- * the point about the scanner). Each residual d has the variance s^2 =
- * 2 sum d^2 / (n - 3) (n = n_0 + n_1, both groups pooled: one range noise;
- * the 2 for the errors the residuals do not show, ego_cov.c), so cov(b) =
- * s^2 sum_g A_g / n_g^2 and
+ * the point about the scanner). The residuals of group g have the
+ * variance s_g^2, so cov(b) = sum_g s_g^2 A_g / n_g^2 and
  *
- *     cov(x) = s^2 A^-1 (sum_g A_g / n_g^2) A^-1,
+ *     cov(x) = A^-1 (sum_g s_g^2 A_g / n_g^2) A^-1,
  *
  * with A damped as the registration damps it (a direction no surface
  * constrains, a corridor's length, gets a large variance, not an
- * infinite one). Unweighted (plain ICP) the matches form one group. The
- * model counts the residual's scatter only: a wrong association that fits
- * well (a wrong minimum) is not in it.
+ * infinite one). Unweighted (plain ICP) the matches form one group.
+ *
+ * s_g^2 (ego_cov.c) is the group's mean squared residual (pulled towards
+ * the pool's by a few pseudo-matches: a group of two says little about
+ * its scatter), n / (n - 3) for the three unknowns, times 2 for the
+ * errors the residuals do not show (associations and chords, which pull
+ * alike over a scan), times the cut's factor: the registration used only
+ * residuals within its last radius, so their scatter understates the
+ * noise's and each one near the edge sways the fit more (a trimmed
+ * least-squares fit, an M-estimator: kappa = P^2 / (P - 2 c f(c))^2 for
+ * a normal noise cut at c, P the share inside; 1 for a cut at 3 sigma,
+ * 4.5 at 1.35 sigma, what a 5 cm cut leaves of 3 cm of range noise).
+ * The model counts the residuals' scatter only: a wrong association that
+ * fits well (a wrong minimum) is not in it.
  *
  * Fixed point throughout, no float: the arithmetic is a 3x3 product of
  * integer mantissas that share a power of two (each step rescales them to
@@ -56,16 +65,25 @@ typedef struct {
  * Q32 m^2. */
 typedef struct {
     int64_t n;
-    int64_t a[6]; /* xx, xy, xt, yy, yt, tt */
+    int64_t a[6];    /* xx, xy, xt, yy, yt, tt */
+    uint64_t sum_sq; /* the squared residuals, Q32 m^2 */
 } ego_cov_group_t;
 
-/* The covariance of the registration's pose (above) from its groups and
- * the sum of its squared residuals (Q32 m^2, both groups); weighted:
- * the groups weigh equally (eq. 10), else every match alike. With three
- * matches or fewer, or equations that do not determine a pose, every
- * variance is EGO_COV_SATURATED and the covariances 0. */
-void ego_cov_estimate(const ego_cov_group_t group[2], uint64_t sum_sq, bool weighted,
+/* The covariance of the registration's pose (above) from its groups,
+ * whose residuals were those within cut (Q16.16 m; 0: no cut); weighted:
+ * the groups weigh equally (eq. 10), else every match alike. Each
+ * variance carries 2 LSB more than it rounded to, so the rounded matrix
+ * stays positive definite. With three matches or fewer, or equations
+ * that do not determine a pose, every variance is EGO_COV_SATURATED and
+ * the covariances 0. */
+void ego_cov_estimate(const ego_cov_group_t group[2], fx_q16_16_t cut, bool weighted,
                       ego_cov_t *cov);
+
+/* The factor kappa (above) of residuals whose mean square is r times
+ * the square of their cut (r in Q16, r < 1/3 for any noise that is not
+ * wider than the cut), Q16, at most 16 (a scatter that fills the window:
+ * the noise may be any wider). */
+uint32_t ego_cov_cut_factor(uint32_t r_q16);
 
 /* Observability (issue 16): the direction of (dx, dy, dtheta) the
  * matches constrain least, from their information sum J J^T with every

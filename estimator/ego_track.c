@@ -531,11 +531,11 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
         run->finished = true;
         return;
     }
-    run->radius = next_radius(run);
     /* Until the budget: a meter that cannot pay for another pass ends the
-     * run here, with the statistics of this one, converged when settled
-     * (a pass sized by the typical point alone ran dry on the busy road's
-     * dear points, and its scan cost the next one). */
+     * run here, with the statistics (and the radius) of this one,
+     * converged when settled (a pass sized by the typical point alone ran
+     * dry on the busy road's dear points, and its scan cost the next
+     * one). */
     const uint32_t next_stride = pass_stride(run);
     const uint32_t next_points = (run->current->count + next_stride - 1u) / next_stride;
     if (run->tracking && !ego_work_allows(work, next_points * pass_point_units(run) +
@@ -545,6 +545,7 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
         run->cut = !settled;
         return;
     }
+    run->radius = next_radius(run);
     begin_pass(run);
 }
 
@@ -675,8 +676,9 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
         for (unsigned k = 0u; k < 2u; k++) {
             groups[k].n = g[k].n;
             memcpy(groups[k].a, g[k].a, sizeof groups[k].a);
+            groups[k].sum_sq = g[k].sum_sq;
         }
-        ego_cov_estimate(groups, g[0].sum_sq + g[1].sum_sq, run->params->weighted, &result->cov);
+        ego_cov_estimate(groups, run->radius, run->params->weighted, &result->cov);
         ego_cov_weakest(groups, run->main_direction, run->current->rms_range,
                         weak_share(run->params, result->residual, run->current->spacing_arm) *
                             (run->weak_held ? 2 : 1),

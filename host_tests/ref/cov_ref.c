@@ -1,7 +1,9 @@
 /* cov_ref.c - see cov_ref.h. The model of ego_cov.h:
- *   cov = s^2 A^-1 S A^-1 + R^2 P R^2^T, A = sum A_g / n_g + E,
- *   S = sum A_g / n_g^2, s^2 = 2 sum d^2 / (n - 3), R = A^-1 E,
- *   E = diag(e_t, e_t, e_r) the registration's damping, P = I (1 m, 1 rad). */
+ *   cov = A^-1 S A^-1 + R^2 P R^2^T, A = sum A_g / n_g + E,
+ *   S = sum s_g^2 A_g / n_g^2, R = A^-1 E,
+ *   s_g^2 = 2 kappa(m_g / cut^2) m_g n / (n - 3), m_g = (sum_g d^2 + 4 m) / (n_g + 4),
+ *   m = sum d^2 / n, E = diag(e_t, e_t, e_r) the registration's damping,
+ *   P = I (1 m, 1 rad); then 2^-29 more on each variance (the guard). */
 #include "cov_ref.h"
 
 #include <math.h>
@@ -50,7 +52,32 @@ static bool invert(double a[3][3], double inv[3][3])
     return true;
 }
 
-bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weighted,
+static double cut_ratio(double a, double *kappa)
+{
+    const double p = erf(a / sqrt(2.0));
+    const double t = 2.0 * a * exp(-0.5 * a * a) / sqrt(2.0 * 3.14159265358979323846);
+    *kappa = (p / (p - t)) * (p / (p - t));
+    return (1.0 - t / p) / (a * a);
+}
+
+double cov_ref_cut_factor(double r)
+{
+    double lo = 0.01;
+    double hi = 40.0;
+    double kappa = 1.0;
+    for (int i = 0; i < 200; i++) {
+        const double a = 0.5 * (lo + hi);
+        if (cut_ratio(a, &kappa) > r) {
+            lo = a;
+        } else {
+            hi = a;
+        }
+    }
+    (void)cut_ratio(0.5 * (lo + hi), &kappa);
+    return (kappa < 16.0) ? kappa : 16.0;
+}
+
+bool cov_ref_estimate(const cov_ref_group_t group[2], double cut_m, bool weighted,
                       double cov[3][3])
 {
     cov_ref_group_t g[2];
@@ -62,20 +89,26 @@ bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weight
         }
         g[0].n += g[1].n;
         g[1].n = 0.0;
+        g[0].sum_sq += g[1].sum_sq;
+        g[1].sum_sq = 0.0;
     }
     const double total = g[0].n + g[1].n;
     if (total <= 3.0) {
         return false;
     }
+    const double pool = (g[0].sum_sq + g[1].sum_sq) / total;
     double a[6] = {0};
     double s[6] = {0};
     for (int k = 0; k < 2; k++) {
         if (g[k].n <= 0.0) {
             continue;
         }
+        const double mean_sq = (g[k].sum_sq + 4.0 * pool) / (g[k].n + 4.0);
+        const double kappa = (cut_m > 0.0) ? cov_ref_cut_factor(mean_sq / (cut_m * cut_m)) : 1.0;
+        const double variance = 2.0 * kappa * mean_sq * total / (total - 3.0);
         for (int i = 0; i < 6; i++) {
             a[i] += g[k].a[i] / g[k].n;
-            s[i] += g[k].a[i] / (g[k].n * g[k].n);
+            s[i] += variance * g[k].a[i] / (g[k].n * g[k].n);
         }
     }
     const double et = (a[0] + a[3]) / 1000.0;
@@ -94,7 +127,6 @@ bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weight
     double c[3][3];
     mul(inv, sm, c);
     mul(c, inv, c);
-    const double variance = 2.0 * sum_sq / (total - 3.0); /* ego_cov.c's MODEL_FACTOR */
     double r[3][3];
     const double e[3] = {et, et, er};
     for (int i = 0; i < 3; i++) {
@@ -110,7 +142,7 @@ bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weight
             for (int k = 0; k < 3; k++) {
                 start += r2[i][k] * r2[j][k];
             }
-            cov[i][j] = variance * c[i][j] + start;
+            cov[i][j] = c[i][j] + start + ((i == j) ? 2.0 / 1073741824.0 : 0.0);
         }
     }
     return true;

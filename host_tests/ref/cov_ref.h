@@ -11,13 +11,21 @@
 typedef struct {
     double n;
     double a[6];
+    double sum_sq; /* the squared residuals, m^2 */
 } cov_ref_group_t;
 
-/* cov[3][3] over (dx m, dy m, dtheta rad) from the groups and the sum of
- * squared residuals (m^2); false when ego_cov_estimate says "unknown"
- * (three matches or fewer, or a singular system). */
-bool cov_ref_estimate(const cov_ref_group_t group[2], double sum_sq, bool weighted,
+/* cov[3][3] over (dx m, dy m, dtheta rad) from the groups, whose residuals
+ * were those within cut_m (0: no cut), and with the output's rounding
+ * guard; false when ego_cov_estimate says "unknown" (three matches or
+ * fewer, or a singular system). */
+bool cov_ref_estimate(const cov_ref_group_t group[2], double cut_m, bool weighted,
                       double cov[3][3]);
+
+/* kappa of ego_cov.h exactly (at most 16) for residuals whose mean square
+ * is r times their cut's square: the cut a of a unit normal noise with
+ * (1 - t / P) / a^2 = r by bisection, t = 2 a phi(a), P = erf(a / sqrt 2),
+ * kappa = (P / (P - t))^2. */
+double cov_ref_cut_factor(double r);
 
 /* The weakest direction of ego_cov_weakest in doubles, exactly: the main
  * group's normals projected on the main direction's normal (main_rad: the

@@ -1,7 +1,9 @@
 /* test_cov.c - the covariance of a registration (estimator/ego_cov.h)
  * against its double oracle (host_tests/ref/cov_ref.c) on random normal
- * equations, and its limits: a corridor's length, too few matches, a
- * singular system, saturation. */
+ * equations, the cut's factor against its formula and against a
+ * simulated trimmed fit, and its limits: a corridor's length, too few
+ * matches, a singular system, saturation, a rounded matrix that stays
+ * positive definite. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -25,8 +27,6 @@ void tearDown(void)
 typedef struct {
     ego_cov_group_t fx[2];
     cov_ref_group_t ref[2];
-    uint64_t sum_sq;     /* Q32 m^2 */
-    double sum_sq_m2;
 } matches_t;
 
 static void add_match(matches_t *m, unsigned g, double normal_rad, double arm_m, double d_m)
@@ -44,8 +44,8 @@ static void add_match(matches_t *m, unsigned g, double normal_rad, double arm_m,
     }
     m->fx[g].n++;
     m->ref[g].n += 1.0;
-    m->sum_sq += (uint64_t)(d * d);
-    m->sum_sq_m2 += ((double)d / 65536.0) * ((double)d / 65536.0);
+    m->fx[g].sum_sq += (uint64_t)(d * d);
+    m->ref[g].sum_sq += ((double)d / 65536.0) * ((double)d / 65536.0);
 }
 
 static double worst; /* largest error seen, relative to its scale */
@@ -65,16 +65,16 @@ static void fixed_matrix(const ego_cov_t *c, double m[3][3])
     m[2][2] = q30(c->tt);
 }
 
-/* Every entry within a thousandth of the scale of its row and column
+/* Every entry within rel of the scale of its row and column
  * (sqrt(cov_ii cov_jj)) plus two LSB of Q2.30. */
-static void assert_close(double want[3][3], const ego_cov_t *got, const char *what)
+static void assert_close_within(double want[3][3], const ego_cov_t *got, double rel, const char *what)
 {
     double m[3][3];
     fixed_matrix(got, m);
     for (unsigned i = 0u; i < 3u; i++) {
         for (unsigned j = 0u; j < 3u; j++) {
             const double scale = sqrt(fabs(want[i][i] * want[j][j]));
-            const double tol = 1e-3 * scale + 2.0 / 1073741824.0;
+            const double tol = rel * scale + 2.0 / 1073741824.0;
             char msg[160];
             (void)snprintf(msg, sizeof msg, "%s: cov[%u][%u] fixed %.6g, double %.6g", what, i, j,
                            m[i][j], want[i][j]);
@@ -84,15 +84,30 @@ static void assert_close(double want[3][3], const ego_cov_t *got, const char *wh
     }
 }
 
+/* Within a thousandth: the arithmetic's own error. */
+static void assert_close(double want[3][3], const ego_cov_t *got, const char *what)
+{
+    assert_close_within(want, got, 1e-3, what);
+}
+
+/* The cut factor's table is linear between steps of 1/64 (within 0.6 %
+ * of kappa, ego_cov.c). */
+#define CUT_TABLE_REL 7e-3
+
 static void test_cov_matches_its_oracle_on_random_equations(void)
 {
     uint32_t seed = 16u;
+    uint32_t other = 61u; /* the scatters and cuts: a stream of their own */
     for (unsigned trial = 0u; trial < 400u; trial++) {
         matches_t m;
         memset(&m, 0, sizeof m);
         const unsigned n0 = tu_rand_range(&seed, 4u, 300u);
         const unsigned n1 = tu_rand_range(&seed, 0u, 200u);
         const double sigma = 0.001 * (double)tu_rand_range(&seed, 1u, 50u); /* 1-50 mm */
+        /* The non-main group scatters 0.5-3 times as much; the cut lies
+         * 1.8-6 of the main group's sigma out (none in every third). */
+        const double scatter[2] = {sigma, sigma * 0.5 * (double)tu_rand_range(&other, 1u, 6u)};
+        const double cut_m = (trial % 3u == 2u) ? 0.0 : sigma * (1.8 + 0.1 * (double)tu_rand_range(&other, 0u, 42u));
         const double reach = (double)tu_rand_range(&seed, 2u, 60u);           /* arms, m */
         const double main_rad = (double)tu_rand(&seed) / 4294967296.0 * 3.14159;
         for (unsigned i = 0u; i < n0 + n1; i++) {
@@ -100,21 +115,22 @@ static void test_cov_matches_its_oracle_on_random_equations(void)
             const double spread = (g == 0u) ? 0.1 : 3.14159;
             const double normal = main_rad + ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * spread;
             const double arm = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 2.0 * reach;
-            const double d = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 3.4641 * sigma;
+            const double d = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 3.4641 * scatter[g];
             add_match(&m, g, normal, arm, d);
         }
         const bool weighted = (trial % 4u) != 3u;
+        const fx_q16_16_t cut = (fx_q16_16_t)lround(cut_m * 65536.0);
         ego_cov_t got;
-        ego_cov_estimate(m.fx, m.sum_sq, weighted, &got);
+        ego_cov_estimate(m.fx, cut, weighted, &got);
         double want[3][3];
-        TEST_ASSERT_TRUE(cov_ref_estimate(m.ref, m.sum_sq_m2, weighted, want));
+        TEST_ASSERT_TRUE(cov_ref_estimate(m.ref, (double)cut / 65536.0, weighted, want));
         if (want[0][0] >= 2.0 || want[1][1] >= 2.0 || want[2][2] >= 2.0) {
             continue; /* saturated: its own test */
         }
         char what[64];
-        (void)snprintf(what, sizeof what, "trial %u (n %u + %u, %s)", trial, n0, n1,
-                       weighted ? "weighted" : "plain");
-        assert_close(want, &got, what);
+        (void)snprintf(what, sizeof what, "trial %u (n %u + %u, %s, cut %.3f m)", trial, n0, n1,
+                       weighted ? "weighted" : "plain", cut_m);
+        assert_close_within(want, &got, (cut > 0) ? CUT_TABLE_REL : 1e-3, what);
     }
     char seen[80];
     (void)snprintf(seen, sizeof seen, "largest error %.2e of its scale", worst);
@@ -134,7 +150,7 @@ static void test_cov_corridor_length_is_not_measured(void)
         add_match(&m, 0u, side, arm, ((i % 3u) - 1.0) * 0.004);
     }
     ego_cov_t got;
-    ego_cov_estimate(m.fx, m.sum_sq, true, &got);
+    ego_cov_estimate(m.fx, 0, true, &got);
     char msg[96];
     (void)snprintf(msg, sizeof msg, "xx %.3g yy %.3g tt %.3g", q30(got.xx), q30(got.yy),
                    q30(got.tt));
@@ -142,7 +158,7 @@ static void test_cov_corridor_length_is_not_measured(void)
     TEST_ASSERT_TRUE_MESSAGE(q30(got.yy) < 1e-6, msg);  /* a millimetre across */
     TEST_ASSERT_TRUE_MESSAGE(q30(got.tt) < 1e-6, msg);  /* a milliradian of heading */
     double want[3][3];
-    TEST_ASSERT_TRUE(cov_ref_estimate(m.ref, m.sum_sq_m2, true, want));
+    TEST_ASSERT_TRUE(cov_ref_estimate(m.ref, 0.0, true, want));
     assert_close(want, &got, "corridor");
 }
 
@@ -265,7 +281,7 @@ static void test_cov_unknown_without_enough_matches(void)
     add_match(&m, 0u, 1.0, 2.0, 0.01);
     add_match(&m, 1u, 2.0, 3.0, 0.01);
     ego_cov_t got;
-    ego_cov_estimate(m.fx, m.sum_sq, true, &got);
+    ego_cov_estimate(m.fx, 0, true, &got);
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.xx);
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.yy);
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.tt);
@@ -273,7 +289,7 @@ static void test_cov_unknown_without_enough_matches(void)
     /* No information at all (every sum 0): singular, unknown. */
     memset(&m, 0, sizeof m);
     m.fx[0].n = 50;
-    ego_cov_estimate(m.fx, 0u, true, &got);
+    ego_cov_estimate(m.fx, 0, true, &got);
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.tt);
     ego_cov_unknown(&got);
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.xx);
@@ -290,7 +306,7 @@ static void test_cov_saturates(void)
         add_match(&m, 0u, 0.3 * i, 0.5, 20.0);
     }
     ego_cov_t got;
-    ego_cov_estimate(m.fx, m.sum_sq, true, &got);
+    ego_cov_estimate(m.fx, 0, true, &got);
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, got.xx);
     TEST_ASSERT_TRUE(got.yy > 0);
 }
@@ -304,13 +320,14 @@ static void test_cov_unmeasured_parts(void)
     const fx_q2_30_t sn = (fx_q2_30_t)lround(sin(0.5235988) * 1073741824.0);
     ego_cov_unmeasured_along(&c, cs, sn);
     const double one = 1073741824.0;
-    TEST_ASSERT_INT32_WITHIN(1, 1000 + (int32_t)lround((double)cs * cs / one), c.xx);
+    const int32_t guard = 2; /* each rounding adds 2 LSB to the variances (ego_cov.h) */
+    TEST_ASSERT_INT32_WITHIN(1, 1000 + guard + (int32_t)lround((double)cs * cs / one), c.xx);
     TEST_ASSERT_INT32_WITHIN(1, (int32_t)lround((double)cs * sn / one), c.xy);
-    TEST_ASSERT_INT32_WITHIN(1, 2000 + (int32_t)lround((double)sn * sn / one), c.yy);
+    TEST_ASSERT_INT32_WITHIN(1, 2000 + guard + (int32_t)lround((double)sn * sn / one), c.yy);
     TEST_ASSERT_EQUAL_INT32(5, c.xt);
-    TEST_ASSERT_EQUAL_INT32(30, c.tt);
+    TEST_ASSERT_EQUAL_INT32(30 + guard, c.tt);
     ego_cov_unmeasured_rotation(&c);
-    TEST_ASSERT_EQUAL_INT32(30 + 1073741824, c.tt);
+    TEST_ASSERT_EQUAL_INT32(30 + guard + 1073741824, c.tt);
     ego_cov_unmeasured_rotation(&c); /* past 2 rad^2: saturated */
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, c.tt);
     ego_cov_unknown(&c);
@@ -318,11 +335,169 @@ static void test_cov_unmeasured_parts(void)
     TEST_ASSERT_EQUAL_INT32(EGO_COV_SATURATED, c.xx);
 }
 
+/* The table of the cut's factor against its formula: within 0.7 % of
+ * kappa everywhere, 1 for residuals far inside the cut, 16 where they
+ * fill it, and never smaller for a wider scatter. */
+static void test_cov_cut_factor_matches_its_formula(void)
+{
+    uint32_t last = 0u;
+    for (uint32_t r = 0u; r <= 65536u; r += 97u) {
+        const double want = cov_ref_cut_factor((double)r / 65536.0);
+        const uint32_t got = ego_cov_cut_factor(r);
+        char msg[96];
+        (void)snprintf(msg, sizeof msg, "r %.4f: fixed %.4f, formula %.4f", (double)r / 65536.0,
+                       (double)got / 65536.0, want);
+        TEST_ASSERT_TRUE_MESSAGE(fabs((double)got / 65536.0 - want) <= CUT_TABLE_REL * want, msg);
+        TEST_ASSERT_TRUE_MESSAGE(got >= last, msg);
+        last = got;
+    }
+    TEST_ASSERT_EQUAL_UINT32(65536u, ego_cov_cut_factor(0u));
+    TEST_ASSERT_EQUAL_UINT32(16u * 65536u, ego_cov_cut_factor(65536u));
+}
+
+/* A unit normal sample by Box-Muller. */
+static double normal_sample(uint32_t *seed)
+{
+    const double u = ((double)tu_rand(seed) + 1.0) / 4294967297.0;
+    const double v = (double)tu_rand(seed) / 4294967296.0;
+    return sqrt(-2.0 * log(u)) * cos(2.0 * 3.14159265358979323846 * v);
+}
+
+#if defined(LMSEGO_UNIT_ON_TARGET)
+#define FIT_TRIALS 300u /* software doubles */
+#define FIT_TOLERANCE 0.30
+#else
+#define FIT_TRIALS 2000u
+#define FIT_TOLERANCE 0.12 /* four standard errors of the scatter's estimate */
+#endif
+/* The model errs on the side of caution where kappa is steep: 11 % over
+ * at a cut of 2 sigma, 26 % at 1.35 (each fit's r scatters, and kappa is
+ * convex in it); at most this much over. */
+#define FIT_CAUTION 0.40
+#define FIT_SAMPLES 400u
+
+/* Why the cut's factor: a location fitted by least squares to the samples
+ * within `cut` of it (iterated until it stays, as a registration's last
+ * passes), 400 unit normal samples a trial. The scatter of the fits
+ * against the model's variance from each fit's own residuals: kappa m /
+ * n_in (m their mean square, n_in their count) agrees or errs on the side
+ * of caution; m / n_in alone, the residuals' scatter, is short by about
+ * kappa (3.8 at a cut of 1.35 sigma). */
+static void check_trimmed_fit(double cut, uint32_t seed)
+{
+    double scatter = 0.0;
+    double model = 0.0;
+    double plain = 0.0;
+    static double x[FIT_SAMPLES];
+    for (unsigned trial = 0u; trial < FIT_TRIALS; trial++) {
+        for (unsigned i = 0u; i < FIT_SAMPLES; i++) {
+            x[i] = normal_sample(&seed);
+        }
+        double mu = 0.0;
+        double m = 0.0;
+        double n_in = 0.0;
+        for (unsigned pass = 0u; pass < 50u; pass++) {
+            double sum = 0.0;
+            double sum_sq = 0.0;
+            n_in = 0.0;
+            for (unsigned i = 0u; i < FIT_SAMPLES; i++) {
+                if (fabs(x[i] - mu) <= cut) {
+                    sum += x[i];
+                    sum_sq += (x[i] - mu) * (x[i] - mu);
+                    n_in += 1.0;
+                }
+            }
+            m = sum_sq / n_in;
+            const double next = sum / n_in;
+            if (next == mu) {
+                break;
+            }
+            mu = next;
+        }
+        scatter += mu * mu;
+        model += cov_ref_cut_factor(m / (cut * cut)) * m / n_in;
+        plain += m / n_in;
+    }
+    char msg[128];
+    (void)snprintf(msg, sizeof msg, "cut %.2f sigma: fits scatter %.3g, model %.3g, residuals alone %.3g",
+                   cut, scatter / FIT_TRIALS, model / FIT_TRIALS, plain / FIT_TRIALS);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(model >= (1.0 - FIT_TOLERANCE) * scatter, msg);
+    TEST_ASSERT_TRUE_MESSAGE(model <= (1.0 + FIT_CAUTION + FIT_TOLERANCE) * scatter, msg);
+    if (cut < 2.0) {
+        TEST_ASSERT_TRUE_MESSAGE(plain < 0.5 * scatter, msg);
+    }
+}
+
+static void test_cov_cut_factor_matches_a_trimmed_fit(void)
+{
+    check_trimmed_fit(1.35, 5u); /* 3 cm of range noise, a 5 cm cut */
+    check_trimmed_fit(2.0, 6u);
+    check_trimmed_fit(3.0, 7u);
+}
+
+/* Is the symmetric m positive definite (Cholesky)? */
+static bool positive_definite(double m[3][3])
+{
+    double l[3][3] = {{0.0}};
+    for (unsigned j = 0u; j < 3u; j++) {
+        double d = m[j][j];
+        for (unsigned k = 0u; k < j; k++) {
+            d -= l[j][k] * l[j][k];
+        }
+        if (!(d > 0.0)) {
+            return false;
+        }
+        l[j][j] = sqrt(d);
+        for (unsigned i = j + 1u; i < 3u; i++) {
+            double v = m[i][j];
+            for (unsigned k = 0u; k < j; k++) {
+                v -= l[i][k] * l[j][k];
+            }
+            l[i][j] = v / l[j][j];
+        }
+    }
+    return true;
+}
+
+/* Registrations a few LSB of Q2.30 precise (0.05-0.5 mm residuals, long
+ * arms: a heading known to tens of microradians): the rounded matrix a
+ * consumer reads stays positive definite (without the guard, rounding
+ * left a fifth of the noise-free campus's lines indefinite). */
+static void test_cov_rounded_matrix_stays_positive_definite(void)
+{
+    uint32_t seed = 23u;
+    for (unsigned trial = 0u; trial < 400u; trial++) {
+        matches_t m;
+        memset(&m, 0, sizeof m);
+        const double sigma = 0.00005 * (double)tu_rand_range(&seed, 1u, 10u);
+        const double reach = (double)tu_rand_range(&seed, 5u, 60u);
+        const unsigned n = tu_rand_range(&seed, 20u, 360u);
+        for (unsigned i = 0u; i < n; i++) {
+            const double normal = (double)tu_rand(&seed) / 4294967296.0 * 6.2831853;
+            const double arm = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 2.0 * reach;
+            const double d = ((double)tu_rand(&seed) / 4294967296.0 - 0.5) * 3.4641 * sigma;
+            add_match(&m, i % 3u == 0u ? 1u : 0u, normal, arm, d);
+        }
+        ego_cov_t got;
+        ego_cov_estimate(m.fx, FX_Q16_16_C(0.015), true, &got);
+        double q[3][3];
+        fixed_matrix(&got, q);
+        char msg[160];
+        (void)snprintf(msg, sizeof msg, "trial %u: xx %d xy %d xt %d yy %d yt %d tt %d (LSB)", trial,
+                       (int)got.xx, (int)got.xy, (int)got.xt, (int)got.yy, (int)got.yt, (int)got.tt);
+        TEST_ASSERT_TRUE_MESSAGE(positive_definite(q), msg);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_cov_matches_its_oracle_on_random_equations);
     RUN_TEST(test_cov_corridor_length_is_not_measured);
+    RUN_TEST(test_cov_cut_factor_matches_its_formula);
+    RUN_TEST(test_cov_cut_factor_matches_a_trimmed_fit);
+    RUN_TEST(test_cov_rounded_matrix_stays_positive_definite);
     RUN_TEST(test_cov_unknown_without_enough_matches);
     RUN_TEST(test_cov_saturates);
     RUN_TEST(test_cov_unmeasured_parts);
