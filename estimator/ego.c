@@ -63,6 +63,8 @@ void ego_reset(ego_state_t *state)
     state->previous_time_us = 0u;
     state->refined[0] = false;
     state->refined[1] = false;
+    state->lead_100us[0] = 0u;
+    state->lead_100us[1] = 0u;
     state->search.active = false;
 }
 
@@ -1237,6 +1239,44 @@ static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t
     return (step > 8u) ? 8u : (uint32_t)step;
 }
 
+/* How far the beams kept of one pass (every step-th from beam 0: pass 0's)
+ * lead the scan's time, the mean of all its beams' (ego_range.h), in 0.1
+ * ms (at most 25.5): the sums of k % passes and k / passes over the beams
+ * in closed form. */
+static uint8_t one_pass_lead(const ego_range_scan_t *scan, uint32_t step)
+{
+    const uint64_t n = scan->count;
+    if (n == 0u || step == 0u) {
+        return 0u;
+    }
+    const uint64_t p = ego_range_passes(scan);
+    const uint64_t q = n / p;
+    const uint64_t r = n % p;
+    const uint64_t sum_pass = q * (p * (p - 1u) / 2u) + ((r > 0u) ? r * (r - 1u) / 2u : 0u);
+    const uint64_t sum_index = ((q > 0u) ? p * (q * (q - 1u) / 2u) : 0u) + r * q;
+    const uint64_t mean_ns =
+        ((uint64_t)scan->pass_us * 1000u * sum_pass + (uint64_t)scan->beam_ns * sum_index) / n;
+    const uint64_t last_kept = ((n - 1u) / step) * step;
+    const uint64_t kept_ns = (last_kept / p) * scan->beam_ns / 2u;
+    const uint64_t lead = (mean_ns > kept_ns) ? (mean_ns - kept_ns + 50000u) / 100000u : 0u;
+    return (uint8_t)((lead < 255u) ? lead : 255u);
+}
+
+/* The RMS offset of the scan's beams from its time, 0.1 ms (at most
+ * 25.5): passes p pass_us apart, q beams beam_ns apart in each, taken as
+ * independent (p^2 - 1) / 12 and (q^2 - 1) / 12 of their squares. */
+static uint8_t skew_rms(const ego_range_scan_t *scan)
+{
+    const uint64_t p = ego_range_passes(scan);
+    const uint64_t q = (scan->count + p - 1u) / p;
+    const uint64_t pass_100ns = (uint64_t)scan->pass_us * 10u;
+    const uint64_t beam_100ns = scan->beam_ns / 100u;
+    const uint64_t var = (pass_100ns * pass_100ns * (p * p - 1u) +
+                          beam_100ns * beam_100ns * ((q > 0u) ? q * q - 1u : 0u)) / 12u; /* (0.1 us)^2 */
+    const uint64_t rms = (fx_sqrt_u64(var) + 500u) / 1000u; /* 0.1 ms */
+    return (uint8_t)((rms < 255u) ? rms : 255u);
+}
+
 /* Prepares the scan into slot cur with its tangents and AH histogram; false (nothing changed) when the budget cannot pay for it. */
 static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_range_scan_t *scan,
                     const ego_skew_t *skew, uint8_t cur)
@@ -1255,12 +1295,14 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     if (!plain) {
         step = beams_per_point(state, scan, valid, per_point);
     }
+    uint8_t lead = 0u;
     if (!timed && ego_range_passes(scan) > 1u) {
         /* No motion to de-skew an interlaced scan with (a cold start):
          * one of its passes, a sweep measured at once, is the scan (at
          * 30 m/s two passes 13.3 ms apart are two images 0.4 m apart). */
         const uint32_t passes = ego_range_passes(scan);
         step = ((step + passes - 1u) / passes) * passes;
+        lead = one_pass_lead(scan, step);
     }
     if (step > 1u) {
         /* Every step-th beam: the preparation thins to that spacing. */
@@ -1297,6 +1339,8 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     state->main_direction[cur] = ego_hist_main_direction(&state->hist[cur]);
     STAGE(EGO_STAGE_OTHER);
     state->refined[cur] = false;
+    state->lead_100us[cur] = lead;
+    state->skew_100us = timed ? skew_rms(scan) : 0u;
     return true;
 }
 
@@ -1638,6 +1682,26 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
 /* The motion from the last scan to the prepared scan in slot cur, dt_us
  * later: tracked, else searched (in this scan's budget and, if need be, the
  * next scans'). */
+/* A scan de-skewed with a motion (skew, over the line's interval) that
+ * the measured one left by d put its points up to d tau / dt off (tau the
+ * beams' RMS offset from the scan's time): that much is added to each
+ * variance, an error the residuals do not show (the first scans of an
+ * arc that begins at once, de-skewed with no turn). */
+static void deskew_variance(ego_output_t *out, const ego_pose_t *skew, uint32_t tau_us)
+{
+    const int64_t dt = (out->dt_us > 0u) ? out->dt_us : 1;
+    const int64_t d[3] = {(int64_t)out->pose.x - skew->x, (int64_t)out->pose.y - skew->y,
+                          fx_rad_q16_of_turn(fx_bam32_diff(out->pose.theta, skew->theta))};
+    fx_q2_30_t *variance[3] = {&out->cov.xx, &out->cov.yy, &out->cov.tt};
+    for (unsigned i = 0u; i < 3u; i++) {
+        const int64_t off = fx_sat_s32(d[i] * (int64_t)tau_us / dt); /* Q16 */
+        const int64_t add = (off * off) >> 2;                        /* Q30 */
+        if (*variance[i] != EGO_COV_SATURATED) {
+            *variance[i] = fx_sat_s32((int64_t)*variance[i] + add);
+        }
+    }
+}
+
 static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                        uint32_t time_us, uint32_t dt, const ego_pose_t *prior, ego_output_t *out)
 {
@@ -1656,6 +1720,14 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
      * odometry may be off by decimetres; not after a search or a suspect
      * change) is tracked with the narrow first reach first. */
     const bool narrow = prior == NULL && have_prediction && !after_search && !state->suspect;
+    /* The last scan's points lead its time when it kept one pass at a cold
+     * start (and the current one's, likewise): the registration spans
+     * dt + lead_last - lead_current, its motion scaled back to dt (at 30
+     * m/s the first de-skewed pair was 0.2 m long). */
+    const uint32_t ahead = dt + 100u * state->lead_100us[state->last];
+    const uint32_t behind = 100u * state->lead_100us[cur];
+    const uint32_t span = (ahead > behind) ? ahead - behind : dt;
+    const ego_pose_t track_predicted = scale_motion(&predicted, dt, span);
     if (current->count < params->min_points || last->count < params->min_points) {
         out->flags |= EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED;
         out->pose = predicted;
@@ -1665,10 +1737,14 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
     }
     bool from_along = false;
     const track_outcome_t tracked =
-        may_track ? track_from_starts(state, params, cur, &predicted, have_prediction, after_search,
-                                      narrow, dt, &from_along, out)
+        may_track ? track_from_starts(state, params, cur, &track_predicted, have_prediction,
+                                      after_search, narrow, dt, &from_along, out)
                   : TRACK_FAILED;
     if (tracked == TRACK_FOUND) {
+        out->pose = scale_motion(&out->pose, span, dt);
+        if (state->skew_100us != 0u && (prior != NULL || motion_known(state, dt))) {
+            deskew_variance(out, &predicted, 100u * (uint32_t)state->skew_100us);
+        }
         set_velocities(out);
         /* An along start measured the motion along the direction of travel
          * (surfaces facing it): along a corridor that is a prediction's

@@ -243,6 +243,11 @@ typedef struct {
     bool lost;               /* the last search found nothing: the next one's first
                                 window is the widest, whatever the motion was */
     bool refined[2];         /* the slot has robust tangents and the search's histogram */
+    uint8_t skew_100us;      /* the last prepared scan's beams' RMS offset from its time
+                                when it was de-skewed, 0.1 ms (0: it was not) */
+    uint8_t lead_100us[2];   /* the slot's points are this much ahead of its scan's time,
+                                0.1 ms: one pass of an interlaced sweep, kept at a cold
+                                start (0: de-skewed or cast at once) */
     bool have_previous;      /* the time of the previous scan, for the budget */
     bool weak;               /* the last motion had a weak translation (its part the
                                 prediction's): tracking holds it weak (ego_track.h) */

@@ -96,6 +96,82 @@ static bool is_occlusion(const ego_prep_params_t *p, const sensor_point_t *a,
     return lhs < scale * (int64_t)ab;
 }
 
+/* The link from the point before `here` (prev, bearing step_bam apart):
+ * 0 or EGO_LINK_* | EGO_LINK_BREAK. gap: beams without a point lie
+ * between them. */
+static uint8_t link_between(const ego_prep_params_t *params, const sensor_point_t *prev,
+                            const sensor_point_t *here, uint32_t step_bam, bool gap)
+{
+    uint8_t link = 0u;
+    if (gap) {
+        link |= EGO_LINK_GAP;
+    } else if (is_jump(params, prev->r, here->r, rad_from_step(step_bam))) {
+        link |= EGO_LINK_JUMP;
+    }
+    if (!gap && is_occlusion(params, prev, here)) {
+        link |= EGO_LINK_OCCLUSION;
+    }
+    return (link != 0u) ? (uint8_t)(link | EGO_LINK_BREAK) : 0u;
+}
+
+/* Moves the point just written at index i back to its bearing's place
+ * among the points before it, at most EGO_SCAN_REORDER_MAX places; false
+ * (the point left out) when it belongs further back. */
+static bool settle_by_bearing(ego_scan_t *scan, uint16_t i)
+{
+    const fx_q16_16_t x = scan->x[i];
+    const fx_q16_16_t y = scan->y[i];
+    const fx_bam32_t b = scan->bearing[i];
+    uint16_t j = i;
+    for (uint32_t moves = 0u; j > 0u && fx_bam32_diff(scan->bearing[j - 1u], b) > 0; moves++) {
+        if (moves == EGO_SCAN_REORDER_MAX) {
+            return false;
+        }
+        scan->x[j] = scan->x[j - 1u];
+        scan->y[j] = scan->y[j - 1u];
+        scan->bearing[j] = scan->bearing[j - 1u];
+        j--;
+    }
+    if (j != i) {
+        scan->x[j] = x;
+        scan->y[j] = y;
+        scan->bearing[j] = b;
+    }
+    return true;
+}
+
+static int64_t clamp_s64(int64_t v, int64_t limit)
+{
+    return (v > limit) ? limit : ((v < -limit) ? -limit : v);
+}
+
+/* The links of de-skewed points, from where they are (relative to the
+ * sensor at the scan's time): a bearing step beyond three beam spacings
+ * (spacing_bam) is a gap (the passes' skew leaves steps of two and a bit
+ * where no beam is missing: a wall seen obliquely as the scanner nears
+ * it; a single missing beam is left to the jump and occlusion tests).
+ * Each coordinate is taken within the longest range (the link tests'
+ * products are sized for it; only an absurd skew moves a point further). */
+static void link_deskewed(ego_scan_t *scan, const ego_prep_params_t *params, uint64_t spacing_bam)
+{
+    sensor_point_t prev = {0, 0, 0};
+    const int64_t reach = params->max_range;
+    for (uint16_t i = 0u; i < scan->count; i++) {
+        const int64_t hx = clamp_s64((int64_t)scan->x[i] - scan->origin_x, reach);
+        const int64_t hy = clamp_s64((int64_t)scan->y[i] - scan->origin_y, reach);
+        const uint64_t r = fx_sqrt_u64((uint64_t)(hx * hx) + (uint64_t)(hy * hy));
+        const sensor_point_t here = {(fx_q16_16_t)hx, (fx_q16_16_t)hy,
+                                     (fx_q16_16_t)((r < (uint64_t)reach) ? r : (uint64_t)reach)};
+        scan->flags[i] = EGO_LINK_BREAK; /* until a next point links to it */
+        if (i > 0u) {
+            const uint32_t step = (uint32_t)fx_bam32_diff(scan->bearing[i], scan->bearing[i - 1u]);
+            scan->flags[i - 1u] =
+                link_between(params, &prev, &here, step, (uint64_t)step > 3u * spacing_bam);
+        }
+        prev = here;
+    }
+}
+
 ego_prep_status_t ego_scan_prepare(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                    ego_scan_t *scan)
 {
@@ -168,7 +244,7 @@ ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const eg
         fx_q2_30_t c;
         fx_sincos(beam, &s, &c);
         const sensor_point_t here = {fx_mul_q16_q30(r, c), fx_mul_q16_q30(r, s), r};
-        range_sq += ((uint64_t)r * (uint64_t)r) >> 16;
+        const uint64_t r_sq = ((uint64_t)r * (uint64_t)r) >> 16;
 
         const uint16_t i = scan->count;
         scan->x[i] = fx_add_q16(in->origin_x, here.x);
@@ -187,27 +263,31 @@ ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const eg
             const int64_t oy = (int64_t)in->origin_y + (turn_q16 * in->origin_x) / 65536;
             scan->x[i] = fx_sat_s32(ox + fx_mul_q16_q30(r, tc) + m.x);
             scan->y[i] = fx_sat_s32(oy + fx_mul_q16_q30(r, ts) + m.y);
+            scan->bearing[i] = fx_atan2((int64_t)scan->y[i] - in->origin_y,
+                                        (int64_t)scan->x[i] - in->origin_x);
+            scan->tangent[i] = 0u;
+            if (settle_by_bearing(scan, i)) {
+                range_sq += r_sq;
+                scan->count++; /* linked below, where the points are */
+            }
+            continue;
         }
         scan->bearing[i] = beam;
         scan->flags[i] = EGO_LINK_BREAK; /* until a next point links to it */
         scan->tangent[i] = 0u;
 
         if (i > 0u) {
-            uint8_t link = 0u;
-            if (k != prev_beam + beam_step) {
-                link |= EGO_LINK_GAP;
-            } else if (is_jump(params, prev.r, r, rad_from_step(beam - prev_bearing))) {
-                link |= EGO_LINK_JUMP;
-            }
-            if ((link & EGO_LINK_GAP) == 0u && is_occlusion(params, &prev, &here)) {
-                link |= EGO_LINK_OCCLUSION;
-            }
-            scan->flags[i - 1u] = (link != 0u) ? (uint8_t)(link | EGO_LINK_BREAK) : 0u;
+            scan->flags[i - 1u] = link_between(params, &prev, &here, beam - prev_bearing,
+                                               k != prev_beam + beam_step);
         }
         prev = here;
         prev_beam = (uint16_t)k;
         prev_bearing = beam;
+        range_sq += r_sq;
         scan->count++;
+    }
+    if (deskew) {
+        link_deskewed(scan, params, (uint64_t)first_step * beam_step);
     }
     if (scan->count > 0u) {
         /* rad Q30 = bam x 2 pi / 4 = bam x (pi / 2 x 2^29) / 2^29. */

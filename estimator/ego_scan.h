@@ -96,9 +96,14 @@ typedef struct {
  * times (ego_range.h): each point is moved to where the vehicle frame was
  * at the scan's time, by skew's motion scaled to its beam's offset from
  * it (the rotation exact, the translation and the sensor's offset to
- * first order in the turn). A point's bearing stays its beam's (so the
- * bearings still increase). Without beam times, or skew NULL or dt_us 0:
+ * first order in the turn). A point's bearing is then its direction from
+ * the sensor at the scan's time, the points are in its order (an
+ * interlaced scan's two passes, 0.4 m apart at 30 m/s, cross over), and
+ * the links are tested on where the points are: a point that would land
+ * more than EGO_SCAN_REORDER_MAX places back (a near one, from the other
+ * pass) is left out. Without beam times, or skew NULL or dt_us 0:
  * ego_scan_prepare. */
+#define EGO_SCAN_REORDER_MAX 8u /* 4 deg at 0.5 deg: 0.2 m of skew seen from 2.9 m */
 ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                             const ego_skew_t *skew, ego_scan_t *scan);
 

@@ -27,8 +27,14 @@ typedef struct {
 /* Costs in units (about Cortex-M3 instructions), upper bounds per step. */
 #define EGO_COST_PREP_BEAM 360u          /* ego_scan_prepare, per beam kept ... */
 #define EGO_COST_BEAM_SKIPPED 20u        /* ... and per beam passed over */
-#define EGO_COST_DESKEW_POINT 120u       /* de-skewing a kept beam (a sincos, six
-                                            products and divisions) */
+#define EGO_COST_DESKEW_POINT 440u       /* de-skewing a kept beam (a sincos, six
+                                            products and divisions, its bearing's
+                                            arctangent, up to 8 moves back into
+                                            bearing order, its links again: a root
+                                            and the link tests; the hardest scan of
+                                            target_budget_highway_361_cm_mirror
+                                            took 274 instructions a point more than
+                                            120 units paid) */
 #define EGO_COST_TFIT_PLAIN 1600u        /* one plain tangent fit (one point) */
 #define EGO_COST_TFIT_CHORD 300u         /* one chord tangent (one point: a chord of 0.2 m
                                             over up to 4 neighbours a side) */

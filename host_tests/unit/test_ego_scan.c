@@ -384,6 +384,26 @@ static void test_ego_scan_deskews_an_interlaced_scan_in_motion(void)
     (void)snprintf(msg, sizeof msg, "de-skewed: %.4f m off the wall", worst);
     TEST_ASSERT_TRUE_MESSAGE(worst < 0.003, msg);
     TEST_MESSAGE(msg);
+    /* The two passes, 0.27 m apart along the track, cross over: the
+     * points are in the order of their bearings from the scanner at the
+     * scan's time, each bearing its point's direction, and the wall is one
+     * segment (as measured, each pass's points zig-zag with the other's). */
+    unsigned breaks = 0u;
+    double off_bearing = 0.0;
+    for (uint16_t i = 0u; i < g_scan.count; i++) {
+        if (i > 0u) {
+            TEST_ASSERT_TRUE(fx_bam32_diff(g_scan.bearing[i], g_scan.bearing[i - 1u]) > 0);
+        }
+        if (i + 1u < g_scan.count && !ego_scan_linked(&g_scan, i)) {
+            breaks++;
+        }
+        const double dir = atan2(fx_q16_16_to_double(g_scan.y[i]) - fx_q16_16_to_double(g_scan.origin_y),
+                                 fx_q16_16_to_double(g_scan.x[i]) - fx_q16_16_to_double(g_scan.origin_x));
+        const double b = (double)(int32_t)g_scan.bearing[i] / 4294967296.0 * 6.283185307179586;
+        off_bearing = fmax(off_bearing, fabs(remainder(dir - b, 6.283185307179586)));
+    }
+    TEST_ASSERT_TRUE(off_bearing < 1e-4);
+    TEST_ASSERT_EQUAL_UINT(0u, breaks);
     TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_range, &p, &g_scan));
     worst = 0.0;
     for (uint16_t i = 0u; i < g_scan.count; i++) {
