@@ -1239,41 +1239,28 @@ static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t
     return (step > 8u) ? 8u : (uint32_t)step;
 }
 
-/* How far the beams kept of one pass (every step-th from beam 0: pass 0's)
- * lead the scan's time, the mean of all its beams' (ego_range.h), in 0.1
- * ms (at most 25.5): the sums of k % passes and k / passes over the beams
- * in closed form. */
-static uint8_t one_pass_lead(const ego_range_scan_t *scan, uint32_t step)
+/* How far the beams kept of one pass (pass 0's) lead the scan's time, the
+ * mean of all its beams' (ego_range.h), in 0.1 ms (at most 25.5): (passes
+ * - 1) / 2 pass intervals (within a beam's time of the exact mean). */
+static uint8_t one_pass_lead(const ego_range_scan_t *scan)
 {
-    const uint64_t n = scan->count;
-    if (n == 0u || step == 0u) {
-        return 0u;
-    }
-    const uint64_t p = ego_range_passes(scan);
-    const uint64_t q = n / p;
-    const uint64_t r = n % p;
-    const uint64_t sum_pass = q * (p * (p - 1u) / 2u) + ((r > 0u) ? r * (r - 1u) / 2u : 0u);
-    const uint64_t sum_index = ((q > 0u) ? p * (q * (q - 1u) / 2u) : 0u) + r * q;
-    const uint64_t mean_ns =
-        ((uint64_t)scan->pass_us * 1000u * sum_pass + (uint64_t)scan->beam_ns * sum_index) / n;
-    const uint64_t last_kept = ((n - 1u) / step) * step;
-    const uint64_t kept_ns = (last_kept / p) * scan->beam_ns / 2u;
-    const uint64_t lead = (mean_ns > kept_ns) ? (mean_ns - kept_ns + 50000u) / 100000u : 0u;
+    const uint64_t lead = ((uint64_t)(ego_range_passes(scan) - 1u) * scan->pass_us + 100u) / 200u;
     return (uint8_t)((lead < 255u) ? lead : 255u);
 }
 
 /* The RMS offset of the scan's beams from its time, 0.1 ms (at most
- * 25.5): passes p pass_us apart, q beams beam_ns apart in each, taken as
- * independent (p^2 - 1) / 12 and (q^2 - 1) / 12 of their squares. */
+ * 25.5): passes p pass_us apart, each a sweep of s, taken as independent
+ * uniform spreads, (p^2 - 1) / 12 pass intervals and s^2 / 12 squared
+ * (intervals within a second: the sums fit 32 bits). */
 static uint8_t skew_rms(const ego_range_scan_t *scan)
 {
-    const uint64_t p = ego_range_passes(scan);
-    const uint64_t q = (scan->count + p - 1u) / p;
-    const uint64_t pass_100ns = (uint64_t)scan->pass_us * 10u;
-    const uint64_t beam_100ns = scan->beam_ns / 100u;
-    const uint64_t var = (pass_100ns * pass_100ns * (p * p - 1u) +
-                          beam_100ns * beam_100ns * ((q > 0u) ? q * q - 1u : 0u)) / 12u; /* (0.1 us)^2 */
-    const uint64_t rms = (fx_sqrt_u64(var) + 500u) / 1000u; /* 0.1 ms */
+    const uint32_t p = ego_range_passes(scan);
+    const uint32_t pass = scan->pass_us / 100u;                           /* 0.1 ms */
+    const uint32_t sweep = (scan->count / p) * (scan->beam_ns / 1000u) / 100u; /* 0.1 ms */
+    if (p > 16u || pass > 10000u || sweep > 10000u) {
+        return 255u;
+    }
+    const uint32_t rms = fx_sqrt_u64(((uint64_t)pass * pass * (p * p - 1u) + (uint64_t)sweep * sweep) / 12u);
     return (uint8_t)((rms < 255u) ? rms : 255u);
 }
 
@@ -1302,7 +1289,7 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
          * 30 m/s two passes 13.3 ms apart are two images 0.4 m apart). */
         const uint32_t passes = ego_range_passes(scan);
         step = ((step + passes - 1u) / passes) * passes;
-        lead = one_pass_lead(scan, step);
+        lead = one_pass_lead(scan);
     }
     if (step > 1u) {
         /* Every step-th beam: the preparation thins to that spacing. */
