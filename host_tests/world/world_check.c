@@ -16,6 +16,17 @@
  *                                    stream equals freshly cast ranges
  *                                    (TIMING lms: each value cast on the
  *                                    whole map at its own time)
+ *   world_check objects OBJECTS SCENARIO RES MAX_RANGE SKIP TIMING [VEL_TOL]
+ *                                    lmsworld --objects: poses against the
+ *                                    scenario, stable ids, velocities
+ *                                    against positions differenced over two
+ *                                    scan periods (within VEL_TOL m/s, 0.02
+ *                                    by default), returns recounted on the
+ *                                    whole map
+ *   world_check standstill TRUTH OBJECTS MIN_PAIRS
+ *                                    at least MIN_PAIRS consecutive pairs of
+ *                                    exactly zero motion while objects in
+ *                                    view move, and some motion elsewhere
  */
 #include <errno.h>
 #include <math.h>
@@ -420,8 +431,10 @@ static void survey(const wscenario_t *sc, double period)
             const size_t n = sc->movers((double)k * period, movers);
             for (size_t i = 0u; i < n; i++) {
                 min_car = fmin(min_car, box_clearance(&movers[i], p.x, p.y));
-                min_car_static = fmin(min_car_static, wmap_clearance(&map, movers[i].x,
-                                                                     movers[i].y));
+                if (movers[i].length >= 3.0) { /* vehicles; pedestrians: survey_movers */
+                    min_car_static = fmin(min_car_static, wmap_clearance(&map, movers[i].x,
+                                                                         movers[i].y));
+                }
             }
         }
         if (k > 0u) {
@@ -502,11 +515,198 @@ static void survey(const wscenario_t *sc, double period)
     wmap_free(&map);
 }
 
+/* Do two movers' rectangles overlap? Separating axes: the two axes of
+ * each rectangle. */
+static bool boxes_overlap(const wmover_t *a, const wmover_t *b)
+{
+    const wmover_t *box[2] = {a, b};
+    for (size_t axis = 0u; axis < 4u; axis++) {
+        const wmover_t *own = box[axis / 2u];
+        const double h = own->heading + (((axis % 2u) != 0u) ? 0.5 * WORLD_PI : 0.0);
+        const double ux = cos(h);
+        const double uy = sin(h);
+        double span[2][2];
+        for (size_t r = 0u; r < 2u; r++) {
+            const wmover_t *m = box[r];
+            const double c = m->x * ux + m->y * uy;
+            const double reach = 0.5 * m->length * fabs(cos(m->heading - h)) +
+                                 0.5 * m->width * fabs(sin(m->heading - h));
+            span[r][0] = c - reach;
+            span[r][1] = c + reach;
+        }
+        if (span[0][1] < span[1][0] || span[1][1] < span[0][0]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* What the movers of the busy-street scenarios do. */
+typedef struct {
+    size_t movers;       /* per call, the same at every time */
+    double car_v[2];     /* vehicles' speed range, m/s */
+    double ped_v[2];     /* pedestrians' speed range, m/s */
+    double ped_clear;    /* least distance of a pedestrian's centre to the map, m */
+    double ego_rel_max;  /* largest |vehicle speed - ego speed|, m/s */
+    double hidden_mean;  /* mean share of the 181 beams that hit a mover */
+    double left_hidden_s; /* s with half the left beams or more on movers */
+    double still_s;      /* longest standstill (identical poses), s */
+    double still_move;   /* fastest mover during it, m/s */
+    unsigned crossing_seen; /* samples with a mover crossing ahead in view */
+    unsigned overlaps;   /* mover pairs that overlap */
+} mover_stats_t;
+
+#define SURVEY_EVERY 8u /* occlusion sampled every 8th scan */
+
+static void survey_movers(const wscenario_t *sc, double period, mover_stats_t *st)
+{
+    wmap_t map;
+    wmap_t active;
+    wmap_t scratch;
+    wmap_init(&map);
+    wmap_init(&active);
+    wmap_init(&scratch);
+    sc->build_map(&map);
+    memset(st, 0, sizeof *st);
+    st->car_v[0] = st->ped_v[0] = st->ped_clear = INFINITY;
+    wmover_t movers[WORLD_MAX_MOVERS];
+    wmover_t last[WORLD_MAX_MOVERS];
+    wpose_t last_pose = sc->pose(0u, period, 0.0);
+    double hidden_sum = 0.0;
+    unsigned samples = 0u;
+    unsigned left_samples = 0u;
+    double still = 0.0;
+    for (unsigned k = 0u; k < sc->default_scans; k++) {
+        const wpose_t p = sc->pose(k, period, 0.0);
+        const size_t n = sc->movers((double)k * period, movers);
+        if (k == 0u) {
+            st->movers = n;
+        }
+        expect_true("the same number of movers at every time", n == st->movers);
+        const bool standing = k > 0u && p.x == last_pose.x && p.y == last_pose.y &&
+                              p.theta == last_pose.theta;
+        still = standing ? still + period : 0.0;
+        st->still_s = fmax(st->still_s, still);
+        const double ego_v = hypot(p.x - last_pose.x, p.y - last_pose.y) / period;
+        for (size_t i = 0u; i < n && k > 0u; i++) {
+            const double v = hypot(movers[i].x - last[i].x, movers[i].y - last[i].y) / period;
+            const bool car = movers[i].length >= 3.0;
+            double *range = car ? st->car_v : st->ped_v;
+            range[0] = fmin(range[0], v);
+            range[1] = fmax(range[1], v);
+            if (car) {
+                st->ego_rel_max = fmax(st->ego_rel_max, fabs(v - ego_v));
+            } else {
+                st->ped_clear = fmin(st->ped_clear, wmap_clearance(&map, movers[i].x,
+                                                                   movers[i].y));
+            }
+            if (standing) {
+                st->still_move = fmax(st->still_move, v);
+            }
+            for (size_t j = i + 1u; j < n; j++) {
+                st->overlaps += boxes_overlap(&movers[i], &movers[j]) ? 1u : 0u;
+            }
+        }
+        if (k % SURVEY_EVERY == 0u) {
+            /* 181 beams with and without the movers: a beam that comes out
+             * shorter with them hit one. */
+            double bare[181];
+            double busy[181];
+            world_scan_prepare(&map, NULL, 0u, p, 50.0, &active);
+            world_scan_cast(&active, p, 181u, 1.0, bare);
+            world_scan_prepare(&map, movers, n, p, 50.0, &active);
+            world_scan_cast(&active, p, 181u, 1.0, busy);
+            unsigned hidden = 0u;
+            unsigned left = 0u;
+            for (unsigned i = 0u; i < 181u; i++) {
+                const bool on_mover = busy[i] <= 50.0 && !(busy[i] >= bare[i]);
+                hidden += on_mover ? 1u : 0u;
+                left += (on_mover && i > 90u) ? 1u : 0u;
+            }
+            hidden_sum += (double)hidden / 181.0;
+            samples++;
+            left_samples += (left >= 45u) ? 1u : 0u;
+            /* A mover across our way, ahead and hit by 3 beams or more. */
+            unsigned returns[WORLD_MAX_MOVERS];
+            (void)world_scan_returns(sc, k, period, 181u, 1.0, false, busy, 50.0, &scratch,
+                                     returns);
+            for (size_t i = 0u; i < n; i++) {
+                const wpose_t rel = ref_between(p, (wpose_t){movers[i].x, movers[i].y,
+                                                             movers[i].heading});
+                if (fabs(cos(rel.theta)) < 0.01 && rel.x > 0.0 && returns[i] >= 3u) {
+                    st->crossing_seen++;
+                    break;
+                }
+            }
+        }
+        for (size_t i = 0u; i < n; i++) {
+            last[i] = movers[i];
+        }
+        last_pose = p;
+    }
+    st->hidden_mean = (samples > 0u) ? hidden_sum / (double)samples : 0.0;
+    st->left_hidden_s = (double)left_samples * SURVEY_EVERY * period;
+    wmap_free(&map);
+    wmap_free(&active);
+    wmap_free(&scratch);
+}
+
+/* The busy-street scenarios do what docs/synthetic-worlds.md says. */
+static void check_streets(const wscenario_t *sc, double period)
+{
+    mover_stats_t st;
+    survey_movers(sc, period, &st);
+    (void)printf("%-11s movers %zu: vehicles %.2f..%.2f m/s (ego +- %.2f), pedestrians "
+                 "%.2f..%.2f m/s >= %.2f m from the map, %.0f %% of beams on movers, left side "
+                 "hidden %.2f s, still %.2f s (movers up to %.2f m/s), crossing seen %u\n",
+                 sc->name, st.movers, st.car_v[0], st.car_v[1], st.ego_rel_max, st.ped_v[0],
+                 st.ped_v[1], st.ped_clear, 100.0 * st.hidden_mean, st.left_hidden_s,
+                 st.still_s, st.still_move, st.crossing_seen);
+    char what[96];
+    (void)snprintf(what, sizeof what, "%s: movers never overlap", sc->name);
+    expect_true(what, st.overlaps == 0u);
+    const double slack = 1e-6;
+    if (strcmp(sc->name, "traffic") == 0) {
+        expect_true("traffic: ten or more vehicles", st.movers >= 10u);
+        expect_true("traffic: vehicles at 4-11 m/s",
+                    st.car_v[0] >= 4.0 - slack && st.car_v[1] <= 11.0 + slack);
+    }
+    if (strcmp(sc->name, "platoon") == 0) {
+        expect_true("platoon: within 0.5 m/s of the ego", st.ego_rel_max <= 0.5);
+        expect_true("platoon: about a third of the beams on trucks",
+                    st.hidden_mean >= 0.25 && st.hidden_mean <= 0.45);
+    }
+    if (strcmp(sc->name, "overtake") == 0) {
+        expect_true("overtake: the left side half hidden for about a second",
+                    st.left_hidden_s >= 0.6 && st.left_hidden_s <= 2.0);
+    }
+    if (strcmp(sc->name, "crossing") == 0) {
+        expect_true("crossing: cars seen crossing ahead", st.crossing_seen >= 5u);
+    }
+    if (strcmp(sc->name, "pedestrians") == 0) {
+        expect_true("pedestrians: 15 or more", st.movers >= 15u);
+        expect_true("pedestrians: 1-1.8 m/s",
+                    st.ped_v[0] >= 1.0 - slack && st.ped_v[1] <= 1.8 + slack);
+        expect_true("pedestrians: never inside the map", st.ped_clear >= 0.4);
+    }
+    if (strcmp(sc->name, "stopgo") == 0) {
+        expect_true("stopgo: standing still for several seconds", st.still_s >= 3.0);
+        expect_true("stopgo: traffic moves meanwhile", st.still_move >= 3.0);
+    }
+}
+
 static int cmd_scenarios(void)
 {
     for (size_t i = 0u; i < wscenario_count(); i++) {
         survey(wscenario_at(i), 2.0 / 75.0);
         survey(wscenario_at(i), 1.0 / 75.0);
+    }
+    for (size_t i = 0u; i < wscenario_count(); i++) {
+        const wscenario_t *sc = wscenario_at(i);
+        if (sc->movers != NULL) {
+            check_streets(sc, 2.0 / 75.0);
+            check_streets(sc, 1.0 / 75.0);
+        }
     }
     return 0;
 }
@@ -1051,11 +1251,233 @@ static int cmd_decode(const char *scans_path, const char *name, const char *res_
     return 0;
 }
 
+/* ------------------------------------------------------------------ */
+/* objects: the --objects file. */
+
+typedef struct {
+    unsigned scan, id;
+    wpose_t rel;     /* centre and heading in the scanner frame */
+    double vx, vy;   /* m/s over ground, scanner frame */
+    double length, width;
+    unsigned returns;
+} object_line_t;
+
+#define OBJECTS_MAX_LINES 200000u
+
+/* Reads the objects file (its first line must be lmsworld's header);
+ * returns the number of lines, *lines allocated. */
+static size_t read_objects(const char *path, object_line_t **lines)
+{
+    FILE *fp = open_or_die(path);
+    static char line[512];
+    *lines = calloc(OBJECTS_MAX_LINES, sizeof **lines);
+    if (*lines == NULL) {
+        (void)fclose(fp);
+        exit(2);
+    }
+    size_t n = 0u;
+    bool first = true;
+    while (fgets(line, sizeof line, fp) != NULL) {
+        if (first) {
+            expect_true("objects: the first line is lmsworld's header",
+                        strncmp(line, "# lmsworld --scenario ", 22u) == 0);
+            first = false;
+        }
+        if (line[0] == '#') {
+            continue;
+        }
+        double v[10];
+        object_line_t o;
+        if (!parse_numbers(line, v, 10u) || !as_index(v[0], &o.scan) || !as_index(v[1], &o.id) ||
+            !as_index(v[9], &o.returns) || n >= OBJECTS_MAX_LINES) {
+            (void)fprintf(stderr, "FAIL bad objects line: %s", line);
+            failures++;
+            continue;
+        }
+        o.rel = (wpose_t){v[2], v[3], v[4]};
+        o.vx = v[5];
+        o.vy = v[6];
+        o.length = v[7];
+        o.width = v[8];
+        (*lines)[n++] = o;
+    }
+    (void)fclose(fp);
+    return n;
+}
+
+/* The beams of scan scene_k that hit each mover, counted here on the
+ * whole (unculled) map, each value at its own time for TIMING lms. */
+static void recount_returns(const wscenario_t *sc, const wmap_t *map, unsigned scene_k,
+                            double period, unsigned count, double res, double max_range,
+                            bool lms_timing, unsigned *returns)
+{
+    wmap_t box;
+    wmap_init(&box);
+    wmover_t movers[WORLD_MAX_MOVERS];
+    const double mean = ref_mean_time(count);
+    for (size_t j = 0u; j < WORLD_MAX_MOVERS; j++) {
+        returns[j] = 0u;
+    }
+    for (unsigned i = 0u; i < count; i++) {
+        const double dt = lms_timing ? ref_beam_time(i, count) - mean : 0.0;
+        const wpose_t at = sc->pose(scene_k, period, dt);
+        const size_t n = sc->movers((double)scene_k * period + dt, movers);
+        const double a = at.theta + world_rad((double)i * res - 90.0);
+        double nearest = wmap_cast(map, at.x, at.y, cos(a), sin(a));
+        size_t hit = WORLD_MAX_MOVERS;
+        for (size_t j = 0u; j < n; j++) {
+            wmap_clear(&box);
+            wmap_add_box(&box, movers[j].x, movers[j].y, movers[j].heading, movers[j].length,
+                         movers[j].width);
+            const double d = wmap_cast(&box, at.x, at.y, cos(a), sin(a));
+            if (d < nearest) {
+                nearest = d;
+                hit = j;
+            }
+        }
+        if (hit < WORLD_MAX_MOVERS && nearest <= max_range) {
+            returns[hit]++;
+        }
+    }
+    wmap_free(&box);
+}
+
+/* objects OBJECTS SCENARIO RES MAX_RANGE SKIP TIMING VEL_TOL */
+static int cmd_objects(const char *path, const char *name, const char *res_text,
+                       const char *max_text, const char *skip_text, const char *timing_text,
+                       const char *tol_text)
+{
+    const double vel_tol = strtod(tol_text, NULL);
+    unsigned long skip = 0u;
+    const wscenario_t *sc = wscenario_find(name);
+    const double res = strtod(res_text, NULL);
+    const double max_range = strtod(max_text, NULL);
+    const bool lms_timing = strcmp(timing_text, "lms") == 0;
+    if (sc == NULL || sc->movers == NULL || (res != 1.0 && res != 0.5) || !(max_range > 0.0) ||
+        !parse_count(skip_text, &skip) || (!lms_timing && strcmp(timing_text, "instant") != 0) ||
+        !(vel_tol > 0.0)) {
+        (void)fputs("world_check objects: bad arguments\n", stderr);
+        return 2;
+    }
+    const unsigned count = (res == 1.0) ? 181u : 361u;
+    const double period = (res == 1.0) ? 1.0 / 75.0 : 2.0 / 75.0;
+    object_line_t *lines = NULL;
+    const size_t n = read_objects(path, &lines);
+    wmap_t map;
+    wmap_init(&map);
+    sc->build_map(&map);
+    wmover_t movers[WORLD_MAX_MOVERS];
+    const size_t per_scan = sc->movers(0.0, movers);
+    const size_t scans = (per_scan > 0u) ? n / per_scan : 0u;
+    expect_true("objects: whole scans of every mover", per_scan > 0u && n == scans * per_scan);
+    expect_true("objects: two scans or more", scans >= 2u);
+    unsigned seen = 0u;
+    unsigned hidden = 0u;
+    double worst_v = 0.0;
+    for (size_t k = 0u; k < scans && failures == 0u; k++) {
+        const unsigned scene_k = (unsigned)skip + (unsigned)k;
+        const wpose_t pose = sc->pose(scene_k, period, 0.0);
+        const size_t nm = sc->movers((double)scene_k * period, movers);
+        unsigned returns[WORLD_MAX_MOVERS];
+        recount_returns(sc, &map, scene_k, period, count, res, max_range, lms_timing, returns);
+        for (size_t j = 0u; j < nm && j < per_scan; j++) {
+            const object_line_t *o = &lines[k * per_scan + j];
+            /* Stable ids: scan k holds ids 0..n-1 in order. */
+            expect_true("objects: scan and id in order", o->scan == k && o->id == j);
+            /* The pose, in the scanner frame at the scan's time. */
+            const wpose_t want = ref_between(pose, (wpose_t){movers[j].x, movers[j].y,
+                                                              movers[j].heading});
+            expect_near("objects: cx", o->rel.x, want.x, 1e-5);
+            expect_near("objects: cy", o->rel.y, want.y, 1e-5);
+            expect_near("objects: heading", angle_diff(o->rel.theta, want.theta), 0.0, 1e-5);
+            expect_near("objects: length", o->length, movers[j].length, 1e-3);
+            expect_near("objects: width", o->width, movers[j].width, 1e-3);
+            /* Returns: recounted; none from an object behind the scanner
+             * or beyond the maximum range (0.5 m slack: with lms timing
+             * the values are cast up to 10 ms from the scan's time). */
+            expect_near("objects: returns recounted on the whole map", (double)o->returns,
+                        (double)returns[j], 0.0);
+            const double reach = 0.5 * hypot(o->length, o->width) + 0.5;
+            const bool out_of_view =
+                o->rel.x + reach < 0.0 || hypot(o->rel.x, o->rel.y) - reach > max_range;
+            expect_true("objects: no returns out of view", !(out_of_view && o->returns > 0u));
+            seen += (o->returns > 0u) ? 1u : 0u;
+            hidden += (o->returns == 0u && !out_of_view) ? 1u : 0u;
+            /* Velocity over ground against the world positions of the
+             * scans either side, differenced, in this scan's frame. */
+            if (k > 0u && k + 1u < scans) {
+                const object_line_t *before = &lines[(k - 1u) * per_scan + j];
+                const object_line_t *after = &lines[(k + 1u) * per_scan + j];
+                const wpose_t p0 = ref_compose(sc->pose(scene_k - 1u, period, 0.0), before->rel);
+                const wpose_t p1 = ref_compose(sc->pose(scene_k + 1u, period, 0.0), after->rel);
+                const double wx = (p1.x - p0.x) / (2.0 * period);
+                const double wy = (p1.y - p0.y) / (2.0 * period);
+                const double c = cos(pose.theta);
+                const double s = sin(pose.theta);
+                const double err = hypot(c * wx + s * wy - o->vx, -s * wx + c * wy - o->vy);
+                worst_v = fmax(worst_v, err);
+                char what[96];
+                (void)snprintf(what, sizeof what,
+                               "objects: scan %zu id %zu velocity = differenced positions (m/s)",
+                               k, j);
+                expect_near(what, err, 0.0, vel_tol);
+            }
+        }
+    }
+    (void)printf("objects: %zu scans x %zu objects, %u seen, %u in view but hidden, velocity "
+                 "within %.2g m/s of the differenced positions\n",
+                 scans, per_scan, seen, hidden, worst_v);
+    expect_true("objects: some seen", seen > 0u);
+    free(lines);
+    wmap_free(&map);
+    return 0;
+}
+
+/* standstill TRUTH OBJECTS MIN_PAIRS */
+static int cmd_standstill(const char *truth_path, const char *objects_path, const char *min_text)
+{
+    unsigned long min_pairs = 0u;
+    if (!parse_count(min_text, &min_pairs)) {
+        (void)fputs("world_check standstill: bad MIN_PAIRS\n", stderr);
+        return 2;
+    }
+    static pair_t pairs[100000];
+    const size_t n = read_pairs(truth_path, pairs, sizeof pairs / sizeof pairs[0]);
+    object_line_t *lines = NULL;
+    const size_t nobj = read_objects(objects_path, &lines);
+    size_t run = 0u;
+    size_t best = 0u;
+    size_t moving = 0u;
+    unsigned movers_seen = 0u; /* seen objects faster than 1 m/s while still */
+    for (size_t k = 0u; k < n && k < sizeof pairs / sizeof pairs[0]; k++) {
+        const wpose_t r = pairs[k].rel;
+        const bool still = r.x == 0.0 && r.y == 0.0 && r.theta == 0.0;
+        run = still ? run + 1u : 0u;
+        best = (run > best) ? run : best;
+        moving += still ? 0u : 1u;
+        for (size_t i = 0u; still && i < nobj; i++) {
+            const object_line_t *o = &lines[i];
+            movers_seen += (o->scan == pairs[k].j && o->returns > 0u &&
+                            hypot(o->vx, o->vy) > 1.0) ? 1u : 0u;
+        }
+    }
+    (void)printf("standstill: %zu pairs of exactly zero motion in a row, %zu moving pairs, "
+                 "%u sightings of moving objects meanwhile\n",
+                 best, moving, movers_seen);
+    expect_true("standstill: long enough", best >= min_pairs);
+    expect_true("standstill: and motion before or after", moving > 0u);
+    expect_true("standstill: moving objects seen meanwhile", movers_seen > 0u);
+    free(lines);
+    return 0;
+}
+
 static int usage(void)
 {
     (void)fputs("usage: world_check raycast | paths | scenarios | timing |\n"
                 "       pairs TRUTH POSES N PERIOD SKIP | table2 TRUTH |\n"
-                "       decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP [instant|lms]\n",
+                "       decode SCANS SCENARIO RES UNIT MAX_RANGE SKIP [instant|lms] |\n"
+                "       objects OBJECTS SCENARIO RES MAX_RANGE SKIP instant|lms [VEL_TOL] |\n"
+                "       standstill TRUTH OBJECTS MIN_PAIRS\n",
                 stderr);
     return 2;
 }
@@ -1082,6 +1504,11 @@ int main(int argc, char **argv)
     } else if (strcmp(cmd, "decode") == 0 && (argc == 8 || argc == 9)) {
         rc = cmd_decode(argv[2], argv[3], argv[4], argv[5], argv[6], argv[7],
                         (argc == 9) ? argv[8] : "instant");
+    } else if (strcmp(cmd, "objects") == 0 && (argc == 8 || argc == 9)) {
+        rc = cmd_objects(argv[2], argv[3], argv[4], argv[5], argv[6], argv[7],
+                         (argc == 9) ? argv[8] : "0.02");
+    } else if (strcmp(cmd, "standstill") == 0 && argc == 5) {
+        rc = cmd_standstill(argv[2], argv[3], argv[4]);
     } else {
         return usage();
     }

@@ -95,6 +95,51 @@ void world_scan_cast_lms(const wscenario_t *sc, const wmap_t *static_map, unsign
     }
 }
 
+/* The range of the beam from p at LMS angle i * res_deg to mover m alone. */
+static double mover_range(const wmover_t *m, wpose_t p, unsigned i, double res_deg,
+                          wmap_t *scratch)
+{
+    wmap_clear(scratch);
+    wmap_add_box(scratch, m->x, m->y, m->heading, m->length, m->width);
+    const double beam = p.theta + world_rad((double)i * res_deg - 90.0);
+    return wmap_cast(scratch, p.x, p.y, cos(beam), sin(beam));
+}
+
+size_t world_scan_returns(const wscenario_t *sc, unsigned k, double period, unsigned count,
+                          double res_deg, bool lms_timing, const double *ranges,
+                          double max_range, wmap_t *scratch, unsigned *returns)
+{
+    for (size_t j = 0u; j < WORLD_MAX_MOVERS; j++) {
+        returns[j] = 0u;
+    }
+    if (sc->movers == NULL) {
+        return 0u;
+    }
+    wmover_t movers[WORLD_MAX_MOVERS];
+    /* The scan's own pose and movers (instant timing), or per value below:
+     * each written exactly as world_scan_cast_lms and lmsworld write them. */
+    wpose_t pose = sc->pose(k, period, 0.0);
+    size_t n = sc->movers((double)k * period, movers);
+    const double mean = world_beam_mean_time(count);
+    for (unsigned i = 0u; i < count && i < LMS_SCAN_MAX_VALUES; i++) {
+        if (!(ranges[i] <= max_range)) {
+            continue;
+        }
+        if (lms_timing) {
+            const double offset = world_beam_time(i, count) - mean;
+            pose = sc->pose(k, period, offset);
+            n = sc->movers((double)k * period + offset, movers);
+        }
+        for (size_t j = 0u; j < n && j < WORLD_MAX_MOVERS; j++) {
+            if (mover_range(&movers[j], pose, i, res_deg, scratch) == ranges[i]) {
+                returns[j]++;
+                break;
+            }
+        }
+    }
+    return n;
+}
+
 uint16_t world_range_word(double range, double noise, lms_unit_t unit, double max_range)
 {
     const bool mm = (unit == LMS_UNIT_MM);

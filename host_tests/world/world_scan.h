@@ -15,6 +15,7 @@
 #ifndef LMSWORLD_SCAN_H
 #define LMSWORLD_SCAN_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -64,6 +65,18 @@ void world_scan_cast(const wmap_t *active, wpose_t pose, unsigned count, double 
 void world_scan_cast_lms(const wscenario_t *sc, const wmap_t *static_map, unsigned k,
                          double period, unsigned count, double res_deg, double max_range,
                          wmap_t *active, wmap_t *scratch, double *ranges);
+
+/* Beams of one scan that hit each mover: returns[j] (j < the scenario's
+ * mover count, at most WORLD_MAX_MOVERS; cleared first) counts the beams
+ * whose range (ranges, as cast for scan k by world_scan_cast or, with
+ * lms_timing, world_scan_cast_lms) is within max_range and lies on mover
+ * j at that beam's time and from that beam's pose. The same expressions
+ * as the casts give the same doubles, so a beam's range equals the range
+ * to the box it hit exactly. scratch is working storage. Returns the
+ * number of movers. */
+size_t world_scan_returns(const wscenario_t *sc, unsigned k, double period, unsigned count,
+                          double res_deg, bool lms_timing, const double *ranges,
+                          double max_range, wmap_t *scratch, unsigned *returns);
 
 /* The value word of one beam: range (m, INFINITY for no hit) plus noise
  * (m), rounded to the nearest unit. A true range beyond max_range gives

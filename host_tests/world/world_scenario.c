@@ -11,7 +11,10 @@
  * The other maps: the corridor, a round plaza (plaza), a bare 72-gon
  * (ring), a corridor with sparse posts (sparse) and a highway lined with
  * buildings (highway); sparse and highway place things irregularly from a
- * fixed splitmix64 state, one draw per statement.
+ * fixed splitmix64 state, one draw per statement. The busy streets
+ * (traffic, platoon, overtake, crossing, pedestrians, stopgo) do the same
+ * for their buildings, posts and parked cars, and add vehicles and
+ * pedestrians whose motions are closed forms of time.
  */
 #include "world_scenario.h"
 
@@ -704,6 +707,548 @@ static void build_highway(wmap_t *m)
 }
 
 /* ------------------------------------------------------------------ */
+/* Busy streets (issue 17): traffic, platoon, overtake, crossing,
+ * pedestrians and stopgo. Straight roads along +x (the crossing adds one
+ * along y); the ego's lane centre is y = 0 and lanes are 3.5 m wide
+ * (LANE_OFFSET). Every mover is a closed-form function of time, and the
+ * movers that share a lane share the period of their speed swings, so
+ * their gaps stay bounded at any time (docs/synthetic-worlds.md gives
+ * the ranges). */
+
+/* Distance driven from t = 0 at the speed mean + amp sin(2 pi t / period_s
+ * + phase), m. */
+static double swing_distance(double mean, double amp, double period_s, double phase, double t)
+{
+    const double w = 2.0 * WORLD_PI / period_s;
+    return mean * t + (amp / w) * (cos(phase) - cos(w * t + phase));
+}
+
+/* A mover of the given size at (x, y, heading). */
+static void put_mover(wmover_t *m, double x, double y, double heading, double length,
+                      double width)
+{
+    m->x = x;
+    m->y = y;
+    m->heading = heading;
+    m->length = length;
+    m->width = width;
+}
+
+/* A straight street along x: per side (0 right, y < 0; 1 left, y > 0)
+ * the facade line, the line of kerb posts and trees and the centre line
+ * of parked cars (0: none). */
+typedef struct {
+    double from, to; /* x mapped, m */
+    double facade[2];
+    double posts[2];
+    double parked[2];
+    uint64_t seed; /* splitmix64 state of the map's draws */
+} street_t;
+
+/* A row of buildings along x from x0 to x1 whose facades stand 0-1.5 m
+ * behind the line y = facade, away from the road (dir -1: the road is
+ * north of them, +1: south); 8-24 m long, 12 m deep, 3-10 m gaps, half
+ * of them with recesses. */
+static void building_row(wmap_t *m, pick_t *pick, double x0, double x1, double facade,
+                         double dir)
+{
+    double x = x0;
+    while (x < x1) {
+        const double len = pick_range(pick, 8.0, 24.0);
+        const double back = pick_range(pick, 0.0, 1.5);
+        const bool notched = pick_unit(pick) < 0.5;
+        const double near = facade + dir * back;
+        const double far = near + dir * 12.0;
+        const unsigned edge = (dir < 0.0) ? (unsigned)EDGE_N : (unsigned)EDGE_S;
+        add_building(m, x, fmin(near, far), x + len, fmax(near, far), notched ? edge : 0u, 5.0,
+                     1.5, 0.6);
+        x += len + pick_range(pick, 3.0, 10.0);
+    }
+}
+
+/* The same along y (a cross street): facades on the line x = facade,
+ * dir -1: the road is east of them, +1: west. */
+static void building_column(wmap_t *m, pick_t *pick, double y0, double y1, double facade,
+                            double dir)
+{
+    double y = y0;
+    while (y < y1) {
+        const double len = pick_range(pick, 8.0, 24.0);
+        const double back = pick_range(pick, 0.0, 1.5);
+        const bool notched = pick_unit(pick) < 0.5;
+        const double near = facade + dir * back;
+        const double far = near + dir * 12.0;
+        const unsigned edge = (dir < 0.0) ? (unsigned)EDGE_E : (unsigned)EDGE_W;
+        add_building(m, fmin(near, far), y, fmax(near, far), y + len, notched ? edge : 0u, 5.0,
+                     1.5, 0.6);
+        y += len + pick_range(pick, 3.0, 10.0);
+    }
+}
+
+/* Posts and trees along y = at from x0 to x1, every 8-20 m. */
+static void kerb_row(wmap_t *m, pick_t *pick, double x0, double x1, double at)
+{
+    double x = x0 + pick_range(pick, 0.0, 8.0);
+    while (x < x1) {
+        if (pick_unit(pick) < 0.5) {
+            add_post(m, x, at, POST_SIZE);
+        } else {
+            wmap_add_circle(m, x, at, TREE_R);
+        }
+        x += pick_range(pick, 8.0, 20.0);
+    }
+}
+
+/* Parked cars along y = at, in groups of 1-3 every 15-50 m. */
+static void parked_row(wmap_t *m, pick_t *pick, double x0, double x1, double at)
+{
+    double x = x0 + pick_range(pick, 0.0, 30.0);
+    while (x < x1) {
+        const unsigned cars = 1u + (unsigned)(3.0 * pick_unit(pick));
+        for (unsigned j = 0u; j < cars; j++) {
+            wmap_add_box(m, x + 6.0 * (double)j, at, 0.0, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+        }
+        x += 6.0 * (double)cars + pick_range(pick, 15.0, 50.0);
+    }
+}
+
+static void build_street(wmap_t *m, const street_t *st)
+{
+    pick_t pick = {st->seed};
+    for (size_t side = 0u; side < 2u; side++) {
+        const double dir = (side == 0u) ? -1.0 : 1.0;
+        building_row(m, &pick, st->from, st->to, st->facade[side], dir);
+        if (st->posts[side] != 0.0) {
+            kerb_row(m, &pick, st->from, st->to, st->posts[side]);
+        }
+        if (st->parked[side] != 0.0) {
+            parked_row(m, &pick, st->from, st->to, st->parked[side]);
+        }
+    }
+}
+
+/* ---- traffic: a two-way street, seven cars ahead in our lane and seven
+ * oncoming. Every speed swings with period TRAFFIC_SWING_S about
+ * 7.5 m/s: the ego's by 4.5 m/s (3-12 m/s), the others' by 2.5-3.5 m/s
+ * (4-11 m/s). */
+
+#define TRAFFIC_SWING_S 16.0
+#define TRAFFIC_MEAN 7.5
+#define TRAFFIC_WEAVE 0.3   /* m, the ego's sway in its lane */
+#define TRAFFIC_WEAVE_M 60.0 /* m of road per sway */
+
+static void build_traffic(wmap_t *m)
+{
+    /* Parked cars 3.4 m right of our lane and left of the oncoming one. */
+    const street_t st = {-60.0, 300.0, {-9.0, 12.5}, {-5.0, 8.5}, {-3.4, LANE_OFFSET + 3.4},
+                         0x7AFF1Cu};
+    build_street(m, &st);
+}
+
+/* The ego's distance along the road; it sways 0.3 m in its lane. */
+static wpose_t traffic_pose(unsigned k, double period, double dt)
+{
+    const double t = scene_time(k, period, dt);
+    const double x = swing_distance(TRAFFIC_MEAN, 4.5, TRAFFIC_SWING_S, 0.0, t);
+    const double wave = 2.0 * WORLD_PI / TRAFFIC_WEAVE_M;
+    wpose_t p;
+    p.x = x;
+    p.y = TRAFFIC_WEAVE * sin(wave * x);
+    p.theta = atan(TRAFFIC_WEAVE * wave * cos(wave * x));
+    return p;
+}
+
+typedef struct {
+    double x0;    /* m, position at t = 0 (ahead) or meeting offset (oncoming) */
+    double amp;   /* m/s, speed swing */
+    double phase; /* rad */
+} swinger_t;
+
+/* Ahead: the nearest 8.9-27 m ahead of the scanner, 8.5 m or more
+ * between centres (checked by world_check scenarios). */
+static const swinger_t traffic_ahead[] = {
+    {24.0, 3.5, 0.9},   {36.0, 3.0, 0.3},   {51.0, 3.5, -0.5}, {73.0, 2.5, 0.8},
+    {86.0, 3.0, -0.2},  {100.0, 3.5, 0.5},  {122.0, 3.0, -0.8},
+};
+/* Oncoming: at x0 at t = 0, one meets the scanner every 3 s or so. */
+static const swinger_t traffic_oncoming[] = {
+    {35.0, 3.0, 0.4},   {80.0, 3.5, 2.0},  {125.0, 2.5, -1.0}, {170.0, 3.0, 1.2},
+    {215.0, 3.5, -0.3}, {260.0, 3.0, 2.6}, {305.0, 2.5, 0.8},
+};
+#define TRAFFIC_AHEAD (sizeof traffic_ahead / sizeof traffic_ahead[0])
+#define TRAFFIC_ONCOMING (sizeof traffic_oncoming / sizeof traffic_oncoming[0])
+_Static_assert(TRAFFIC_AHEAD + TRAFFIC_ONCOMING <= WORLD_MAX_MOVERS, "traffic: too many movers");
+
+static size_t traffic_movers(double t, wmover_t *out)
+{
+    size_t n = 0u;
+    for (size_t i = 0u; i < TRAFFIC_AHEAD; i++) {
+        const swinger_t *c = &traffic_ahead[i];
+        const double x = c->x0 + swing_distance(TRAFFIC_MEAN, c->amp, TRAFFIC_SWING_S, c->phase, t);
+        put_mover(&out[n++], x, 0.0, 0.0, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+    }
+    for (size_t i = 0u; i < TRAFFIC_ONCOMING; i++) {
+        const swinger_t *c = &traffic_oncoming[i];
+        const double x = c->x0 - swing_distance(TRAFFIC_MEAN, c->amp, TRAFFIC_SWING_S, c->phase, t);
+        put_mover(&out[n++], x, LANE_OFFSET, WORLD_PI, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+    }
+    return n;
+}
+
+/* ---- platoon: three lanes our way (y = -3.5, 0, 3.5), two trucks in
+ * each, the first with its rear face 7-11 m ahead of the scanner; each
+ * gap to the ego swings by at most 1.2 m over 17-23 s, so every truck is
+ * within 0.45 m/s of the ego's 7-11 m/s. */
+
+#define PLATOON_SPEED 9.0
+#define PLATOON_SWING 2.0
+#define PLATOON_SWING_S 14.0
+
+static void build_platoon(wmap_t *m)
+{
+    const street_t st = {-60.0, 320.0, {-11.5, 11.5}, {-8.6, 8.6}, {-7.0, 7.0}, 0x9147u};
+    build_street(m, &st);
+}
+
+static double platoon_x(double t)
+{
+    return swing_distance(PLATOON_SPEED, PLATOON_SWING, PLATOON_SWING_S, 0.0, t);
+}
+
+static wpose_t platoon_pose(unsigned k, double period, double dt)
+{
+    wpose_t p;
+    p.x = platoon_x(scene_time(k, period, dt));
+    p.y = 0.0;
+    p.theta = 0.0;
+    return p;
+}
+
+typedef struct {
+    double lane;     /* y, m */
+    double gap;      /* m, mean distance of the centre ahead of the scanner */
+    double amp;      /* m, swing of that distance */
+    double period_s; /* s */
+    double phase;    /* rad */
+} follower_t;
+
+static const follower_t platoon_trucks[] = {
+    {0.0, 14.0, 1.0, 20.0, 0.0},
+    {-LANE_OFFSET, 15.5, 1.2, 17.0, 1.3},
+    {LANE_OFFSET, 16.0, 1.1, 23.0, -2.0},
+    {0.0, 29.0, 0.8, 19.0, 2.2},
+    {-LANE_OFFSET, 31.0, 1.0, 21.0, -0.7},
+    {LANE_OFFSET, 31.5, 0.9, 18.0, 0.9},
+};
+#define PLATOON_TRUCKS (sizeof platoon_trucks / sizeof platoon_trucks[0])
+_Static_assert(PLATOON_TRUCKS <= WORLD_MAX_MOVERS, "platoon: too many movers");
+
+static size_t platoon_movers(double t, wmover_t *out)
+{
+    const double ego = platoon_x(t);
+    for (size_t i = 0u; i < PLATOON_TRUCKS; i++) {
+        const follower_t *f = &platoon_trucks[i];
+        const double gap = f->gap + f->amp * sin(2.0 * WORLD_PI * t / f->period_s + f->phase);
+        put_mover(&out[i], ego + gap, f->lane, 0.0, WORLD_TRUCK_LENGTH, WORLD_TRUCK_WIDTH);
+    }
+    return PLATOON_TRUCKS;
+}
+
+/* ---- overtake: two lanes our way; a truck comes from behind in the
+ * left lane at 17 m/s, is alongside the scanner (8-10 m/s) at t = 6 s,
+ * slows to 12 m/s and changes into our lane from t = 9 to 12 s, 15 m
+ * ahead. */
+
+#define OVERTAKE_MEET_S 6.0
+#define OVERTAKE_CHANGE_S 9.0 /* start of the lane change */
+#define OVERTAKE_CHANGE_LEN_S 3.0
+
+static const wknot_t overtake_knots[] = {{0.0, 20.0}, {6.5, 20.0}, {9.5, 12.0}};
+#define OVERTAKE_KNOTS (sizeof overtake_knots / sizeof overtake_knots[0])
+
+static void build_overtake(wmap_t *m)
+{
+    const street_t st = {-60.0, 250.0, {-9.0, 10.0}, {-5.0, 7.0}, {-3.4, 0.0}, 0x0E57u};
+    build_street(m, &st);
+}
+
+static double overtake_ego_x(double t)
+{
+    return swing_distance(9.0, 1.0, 12.0, 0.0, t);
+}
+
+static wpose_t overtake_pose(unsigned k, double period, double dt)
+{
+    wpose_t p;
+    p.x = overtake_ego_x(scene_time(k, period, dt));
+    p.y = 0.0;
+    p.theta = 0.0;
+    return p;
+}
+
+static size_t overtake_movers(double t, wmover_t *out)
+{
+    /* Alongside (same x) at OVERTAKE_MEET_S. */
+    const double start = overtake_ego_x(OVERTAKE_MEET_S) -
+                         wprofile_distance(overtake_knots, OVERTAKE_KNOTS, OVERTAKE_MEET_S);
+    const double x = start + wprofile_distance(overtake_knots, OVERTAKE_KNOTS, t);
+    const double v = wprofile_speed(overtake_knots, OVERTAKE_KNOTS, t);
+    /* Lane change: the lateral offset falls along a half cosine; the
+     * truck heads along its velocity. */
+    double y = LANE_OFFSET;
+    double vy = 0.0;
+    const double u = (t - OVERTAKE_CHANGE_S) / OVERTAKE_CHANGE_LEN_S;
+    if (u >= 1.0) {
+        y = 0.0;
+    } else if (u > 0.0) {
+        y = 0.5 * LANE_OFFSET * (1.0 + cos(WORLD_PI * u));
+        vy = -0.5 * LANE_OFFSET * WORLD_PI / OVERTAKE_CHANGE_LEN_S * sin(WORLD_PI * u);
+    }
+    put_mover(&out[0], x, y, atan2(vy, v), WORLD_TRUCK_LENGTH, WORLD_TRUCK_WIDTH);
+    return 1u;
+}
+
+/* ---- crossing: our street along x meets a cross street along y at
+ * x = CROSS_X. The ego slows from 8 to 1.5 m/s before it (t 4-8 s),
+ * creeps, then crosses at 8 m/s (t 13-14 s) while four cars each way
+ * have passed in front at 9 (northbound) and 10 m/s (southbound). */
+
+#define CROSS_X 70.0
+#define CROSS_NORTH 9.0  /* m/s, lane x = CROSS_X + 1.75 */
+#define CROSS_SOUTH 10.0 /* m/s, lane x = CROSS_X - 1.75 */
+
+static const wknot_t crossing_knots[] = {
+    {0.0, 8.0}, {4.0, 8.0}, {8.0, 1.5}, {10.0, 1.5}, {13.0, 8.0},
+};
+#define CROSSING_KNOTS (sizeof crossing_knots / sizeof crossing_knots[0])
+
+static void build_crossing(wmap_t *m)
+{
+    pick_t pick = {0xC055u};
+    const double gap = 8.5; /* facades from the cross street's centre line */
+    /* Along our street: facades at y = -7 (south) and 11 (north). */
+    building_row(m, &pick, -80.0, CROSS_X - gap - 12.0, -7.0, -1.0);
+    building_row(m, &pick, CROSS_X + gap, 300.0, -7.0, -1.0);
+    building_row(m, &pick, -80.0, CROSS_X - gap - 12.0, 11.0, 1.0);
+    building_row(m, &pick, CROSS_X + gap, 300.0, 11.0, 1.0);
+    /* Along the cross street, beyond our street's facades. */
+    building_column(m, &pick, -200.0, -7.0 - 12.0, CROSS_X - gap, -1.0);
+    building_column(m, &pick, -200.0, -7.0 - 12.0, CROSS_X + gap, 1.0);
+    building_column(m, &pick, 11.0, 200.0, CROSS_X - gap, -1.0);
+    building_column(m, &pick, 11.0, 200.0, CROSS_X + gap, 1.0);
+    /* Posts and trees on the kerbs, traffic-light posts at the corners. */
+    kerb_row(m, &pick, -80.0, CROSS_X - 7.0, -5.0);
+    kerb_row(m, &pick, CROSS_X + 7.0, 300.0, -5.0);
+    kerb_row(m, &pick, -80.0, CROSS_X - 7.0, 8.5);
+    kerb_row(m, &pick, CROSS_X + 7.0, 300.0, 8.5);
+    parked_row(m, &pick, -80.0, CROSS_X - 20.0, -3.4);
+    add_post(m, CROSS_X - 5.0, -5.0, POST_SIZE);
+    add_post(m, CROSS_X + 5.0, -5.0, POST_SIZE);
+    add_post(m, CROSS_X - 5.0, 8.5, POST_SIZE);
+    add_post(m, CROSS_X + 5.0, 8.5, POST_SIZE);
+}
+
+static wpose_t crossing_pose(unsigned k, double period, double dt)
+{
+    wpose_t p;
+    p.x = wprofile_distance(crossing_knots, CROSSING_KNOTS, scene_time(k, period, dt));
+    p.y = 0.0;
+    p.theta = 0.0;
+    return p;
+}
+
+/* When each cross car is on our lane's centre line (y = 0), s. */
+static const double cross_north[] = {3.0, 5.8, 8.4, 11.2};
+static const double cross_south[] = {4.4, 7.0, 9.8, 12.0};
+#define CROSS_EACH (sizeof cross_north / sizeof cross_north[0])
+_Static_assert(sizeof cross_south == sizeof cross_north, "crossing: as many each way");
+_Static_assert(2u * CROSS_EACH <= WORLD_MAX_MOVERS, "crossing: too many movers");
+
+static size_t crossing_movers(double t, wmover_t *out)
+{
+    size_t n = 0u;
+    for (size_t i = 0u; i < CROSS_EACH; i++) {
+        put_mover(&out[n++], CROSS_X + 0.5 * LANE_OFFSET, CROSS_NORTH * (t - cross_north[i]),
+                  0.5 * WORLD_PI, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+    }
+    for (size_t i = 0u; i < CROSS_EACH; i++) {
+        put_mover(&out[n++], CROSS_X - 0.5 * LANE_OFFSET, -CROSS_SOUTH * (t - cross_south[i]),
+                  -0.5 * WORLD_PI, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+    }
+    return n;
+}
+
+/* ---- pedestrians: a one-way shopping street 13 m between facades,
+ * driven at 1-3 m/s; alleys through both rows every 16-18 m; people
+ * walking both ways on the pavements and across the street from alley
+ * to alley. */
+
+#define PED_FACADE 6.5  /* facades at y = +-6.5 */
+#define PED_POSTS 3.2   /* posts and trees at y = +-3.2 */
+#define PED_ALLEY_W 3.5 /* m */
+
+static const double ped_alleys[] = {12.0, 30.0, 47.0, 63.0, 80.0, 97.0};
+#define PED_ALLEYS (sizeof ped_alleys / sizeof ped_alleys[0])
+
+static void build_pedestrians(wmap_t *m)
+{
+    /* Shops between the alleys (and before the first, after the last),
+     * split into fronts of 5-9 m with recessed doors. */
+    pick_t pick = {0x9ED5u};
+    for (size_t side = 0u; side < 2u; side++) {
+        const double dir = (side == 0u) ? -1.0 : 1.0;
+        for (size_t a = 0u; a <= PED_ALLEYS; a++) {
+            const double x0 = (a == 0u) ? -60.0 : ped_alleys[a - 1u] + 0.5 * PED_ALLEY_W;
+            const double x1 = (a == PED_ALLEYS) ? 160.0 : ped_alleys[a] - 0.5 * PED_ALLEY_W;
+            double x = x0;
+            while (x < x1 - 1.0) {
+                const double want = pick_range(&pick, 5.0, 9.0);
+                const double len = (x1 - x < want + 3.0) ? x1 - x : want;
+                const double near = dir * PED_FACADE;
+                const double far = dir * (PED_FACADE + 10.0);
+                const unsigned edge = (side == 0u) ? (unsigned)EDGE_N : (unsigned)EDGE_S;
+                add_building(m, x, fmin(near, far), x + len, fmax(near, far), edge, len, 1.4,
+                             0.5);
+                x += len;
+            }
+        }
+        /* Posts and trees every 5-9 m, none in front of an alley. */
+        double x = -55.0;
+        while (x < 155.0) {
+            bool clear = true;
+            for (size_t a = 0u; a < PED_ALLEYS; a++) {
+                clear = clear && fabs(x - ped_alleys[a]) > 0.5 * PED_ALLEY_W + 0.5;
+            }
+            const bool tree = pick_unit(&pick) < 0.4;
+            if (clear && tree) {
+                wmap_add_circle(m, x, dir * PED_POSTS, TREE_R);
+            } else if (clear) {
+                add_post(m, x, dir * PED_POSTS, POST_SIZE);
+            }
+            x += pick_range(&pick, 5.0, 9.0);
+        }
+    }
+}
+
+#define PED_EGO_SPEED 2.0 /* m/s, +- 1 over 10 s */
+
+static double pedestrians_ego_x(double t)
+{
+    return swing_distance(PED_EGO_SPEED, 1.0, 10.0, 0.0, t);
+}
+
+static wpose_t pedestrians_pose(unsigned k, double period, double dt)
+{
+    wpose_t p;
+    p.x = pedestrians_ego_x(scene_time(k, period, dt));
+    p.y = 0.0;
+    p.theta = 0.0;
+    return p;
+}
+
+typedef struct {
+    double x0, y0;   /* m, at t = 0 */
+    double heading;  /* rad */
+    double speed;    /* m/s */
+} walker_t;
+
+/* On the pavements: one speed per line (y), so nobody walks into anyone
+ * on the same line; eastbound at |y| = 4.1, westbound at |y| = 5.2. */
+static const walker_t ped_walkers[] = {
+    {-4.0, -4.1, 0.0, 1.2},       {14.0, -4.1, 0.0, 1.2},      {37.0, -4.1, 0.0, 1.2},
+    {25.0, -5.2, WORLD_PI, 1.5},  {52.0, -5.2, WORLD_PI, 1.5}, {78.0, -5.2, WORLD_PI, 1.5},
+    {2.0, 4.1, 0.0, 1.0},         {33.0, 4.1, 0.0, 1.0},       {26.0, 5.2, WORLD_PI, 1.8},
+    {60.0, 5.2, WORLD_PI, 1.8},   {95.0, 5.2, WORLD_PI, 1.8},
+};
+#define PED_WALKERS (sizeof ped_walkers / sizeof ped_walkers[0])
+
+/* Across: alley x, direction (+1 north), speed, and when the walker is on
+ * y = 0 (the scanner is then 10-38 m short of the alley). The two on one
+ * alley walk the same way at the same speed, so they never meet. */
+static const double ped_crossers[][4] = {
+    {12.0, 1.0, 1.4, 1.0},  {30.0, -1.0, 1.1, 5.0}, {47.0, 1.0, 1.6, 10.0},
+    {47.0, 1.0, 1.6, 15.0}, {63.0, 1.0, 1.2, 17.5}, {80.0, -1.0, 1.7, 21.0},
+};
+#define PED_CROSSERS (sizeof ped_crossers / sizeof ped_crossers[0])
+_Static_assert(PED_WALKERS + PED_CROSSERS <= WORLD_MAX_MOVERS, "pedestrians: too many movers");
+
+static size_t pedestrians_movers(double t, wmover_t *out)
+{
+    size_t n = 0u;
+    for (size_t i = 0u; i < PED_WALKERS; i++) {
+        const walker_t *w = &ped_walkers[i];
+        put_mover(&out[n++], w->x0 + w->speed * t * cos(w->heading), w->y0, w->heading,
+                  WORLD_PED_SIZE, WORLD_PED_SIZE);
+    }
+    for (size_t i = 0u; i < PED_CROSSERS; i++) {
+        const double *c = ped_crossers[i];
+        put_mover(&out[n++], c[0], c[1] * c[2] * (t - c[3]), c[1] * 0.5 * WORLD_PI,
+                  WORLD_PED_SIZE, WORLD_PED_SIZE);
+    }
+    return n;
+}
+
+/* ---- stopgo: a queue on a two-way street. Every car of the queue and
+ * the ego drive the same stop-and-go profile, each car ahead of us
+ * STOPGO_LEAD_S earlier than the one behind it, so the queue starts and
+ * stops front first and its gaps never shrink below the 7 m at rest.
+ * The ego stands still from 5 to 10 s and from 17.5 to 21 s. */
+
+#define STOPGO_LEAD_S 1.0
+#define STOPGO_QUEUE 5u
+#define STOPGO_SPACING 7.0 /* m between centres at rest */
+
+static const wknot_t stopgo_knots[] = {
+    {0.0, 5.0},  {2.0, 5.0},  {5.0, 0.0},  {10.0, 0.0}, {13.0, 4.0},
+    {15.0, 4.0}, {17.5, 0.0}, {21.0, 0.0}, {24.0, 5.0},
+};
+#define STOPGO_KNOTS (sizeof stopgo_knots / sizeof stopgo_knots[0])
+
+/* Oncoming at 6-9 m/s. */
+static const swinger_t stopgo_oncoming[] = {
+    {40.0, 1.5, 0.3},  {75.0, 1.5, 2.1},   {110.0, 1.5, -0.9}, {145.0, 1.5, 1.4},
+    {180.0, 1.5, -2.2}, {215.0, 1.5, 0.7}, {250.0, 1.5, 2.8},
+};
+#define STOPGO_ONCOMING (sizeof stopgo_oncoming / sizeof stopgo_oncoming[0])
+_Static_assert(STOPGO_QUEUE + STOPGO_ONCOMING <= WORLD_MAX_MOVERS, "stopgo: too many movers");
+
+static void build_stopgo(wmap_t *m)
+{
+    const street_t st = {-60.0, 160.0, {-9.0, 12.5}, {-5.0, 8.5}, {-3.4, LANE_OFFSET + 3.4},
+                         0x5709u};
+    build_street(m, &st);
+}
+
+/* Standing still, the profile's distance is the same double at every
+ * time (wprofile_distance adds 0 over a zero-speed span), so the truth
+ * pairs are exactly 0. */
+static wpose_t stopgo_pose(unsigned k, double period, double dt)
+{
+    wpose_t p;
+    p.x = wprofile_distance(stopgo_knots, STOPGO_KNOTS, scene_time(k, period, dt));
+    p.y = 0.0;
+    p.theta = 0.0;
+    return p;
+}
+
+static size_t stopgo_movers(double t, wmover_t *out)
+{
+    size_t n = 0u;
+    for (unsigned i = 0u; i < STOPGO_QUEUE; i++) {
+        const double lead = STOPGO_LEAD_S * (double)(i + 1u);
+        const double x = STOPGO_SPACING * (double)(i + 1u) +
+                         wprofile_distance(stopgo_knots, STOPGO_KNOTS, t + lead);
+        put_mover(&out[n++], x, 0.0, 0.0, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+    }
+    for (size_t i = 0u; i < STOPGO_ONCOMING; i++) {
+        const swinger_t *c = &stopgo_oncoming[i];
+        const double x = c->x0 - swing_distance(TRAFFIC_MEAN, c->amp, TRAFFIC_SWING_S, c->phase, t);
+        put_mover(&out[n++], x, LANE_OFFSET, WORLD_PI, WORLD_CAR_LENGTH, WORLD_CAR_WIDTH);
+    }
+    return n;
+}
+
+/* ------------------------------------------------------------------ */
 
 static const wscenario_t scenarios[] = {
     {"campus", "campus drive, 0-10 m/s, two corners, into the corridor (929 scans)", 929u, 0u,
@@ -726,6 +1271,18 @@ static const wscenario_t scenarios[] = {
      0u, build_sparse, sparse_pose, NULL},
     {"highway", "10-30 m/s, curves up to 0.5 rad/s, buildings, cars, posts (900 scans)", 900u,
      0u, build_highway, highway_pose, NULL},
+    {"traffic", "two-way street, 7 cars ahead at 4-11 m/s, 7 oncoming; ego 3-12 m/s (900 scans)",
+     900u, 0u, build_traffic, traffic_pose, traffic_movers},
+    {"platoon", "3 lanes of trucks 7-11 m ahead within 0.5 m/s of our 7-11 m/s (900 scans)",
+     900u, 0u, build_platoon, platoon_pose, platoon_movers},
+    {"overtake", "a 12 m truck overtakes on the left at t = 6 s and cuts in (600 scans)", 600u,
+     0u, build_overtake, overtake_pose, overtake_movers},
+    {"crossing", "an intersection: slowing to 1.5 m/s while 8 cars cross ahead (750 scans)",
+     750u, 0u, build_crossing, crossing_pose, crossing_movers},
+    {"pedestrians", "shopping street at 1-3 m/s, 17 pedestrians walking and crossing (900 scans)",
+     900u, 0u, build_pedestrians, pedestrians_pose, pedestrians_movers},
+    {"stopgo", "stop-and-go queue: standing still 5-10 s and 17.5-21 s, traffic moving (900 scans)",
+     900u, 0u, build_stopgo, stopgo_pose, stopgo_movers},
 };
 
 size_t wscenario_count(void)

@@ -10,19 +10,26 @@
 #include "world_geom.h"
 #include "world_map.h"
 
-/* A moving vehicle at one instant: a rectangle. */
+/* A moving object (vehicle or pedestrian) at one instant: a rectangle. */
 typedef struct {
     double x, y;    /* centre, m */
-    double heading; /* rad, direction of its length */
+    double heading; /* rad, direction of its length (and of its motion) */
     double length;  /* m */
     double width;   /* m */
 } wmover_t;
 
-#define WORLD_MAX_MOVERS 16u
+/* Most movers a scenario has at once (the busy-street scenarios have up
+ * to 18); callers keep arrays of this size. */
+#define WORLD_MAX_MOVERS 32u
 
 /* Vehicle size used for parked and moving cars. */
 #define WORLD_CAR_LENGTH 4.5
 #define WORLD_CAR_WIDTH 1.8
+
+/* Trucks of the busy-street scenarios, and pedestrians (a square). */
+#define WORLD_TRUCK_LENGTH 12.0
+#define WORLD_TRUCK_WIDTH 2.5
+#define WORLD_PED_SIZE 0.5
 
 typedef struct {
     const char *name;
@@ -37,7 +44,10 @@ typedef struct {
      * dt = 0 a scenario defined per scan (fast) sees k exactly and one
      * defined per second the same k * period as before. */
     wpose_t (*pose)(unsigned k, double period, double dt);
-    /* Moving vehicles at time t (s), at most WORLD_MAX_MOVERS; NULL: none. */
+    /* Moving objects at time t (s), at most WORLD_MAX_MOVERS; NULL: none.
+     * Every call returns the same movers in the same order, so a mover's
+     * index is its id (lmsworld --objects), and each is a smooth function
+     * of time. */
     size_t (*movers)(double t, wmover_t *out);
 } wscenario_t;
 

@@ -17,6 +17,13 @@
 #      table2       the single truth line is the paper's Table 2 pair
 #      usage        lmsworld exits EXPECT_RC and writes no stream
 #      regen        outputs equal SHIPPED_DIR/NAME.{lms,pairs,tum}
+#      busy_regen   outputs with --objects equal BUSY_DIR/NAME.{lms,pairs,tum,objects}
+#                   (NAME without its busy_regen_ prefix)
+#      objects      --objects checked by world_check objects (SCENARIO RES
+#                   MAX_RANGE SKIP, TIMING instant (default) or lms, VEL_TOL);
+#                   with MIN_STILL also world_check standstill
+# OBJECTS=1 (any mode that generates) also writes and, for determinism,
+# compares the --objects file.
 #      budget       `lmsego replay` within the default budget (REPLAY_MODE:
 #                   its --mode; REPLAY_TIMING: its --sweep, default instant) fails at
 #                   most MAX_FAILED pairs (or at least MIN_FAILED), aperture
@@ -25,7 +32,7 @@
 #                   with REQUIRE_FLAG, at least MIN_SHARE of its lines carry one
 #                   of those flags
 cmake_minimum_required(VERSION 3.21)
-foreach(var MODE NAME LMSWORLD WORLD_CHECK LMSEGO OUT_DIR SHIPPED_DIR)
+foreach(var MODE NAME LMSWORLD WORLD_CHECK LMSEGO OUT_DIR SHIPPED_DIR BUSY_DIR)
     if(NOT DEFINED ${var})
         message(FATAL_ERROR "world_test.cmake: ${var} is not set")
     endif()
@@ -43,11 +50,16 @@ file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
 
 # generate(prefix extra-args...): lmsworld ARGS -o prefix.lms --truth
-# prefix.pairs --poses prefix.tum, failing the test on a nonzero exit.
+# prefix.pairs --poses prefix.tum (and --objects prefix.objects with
+# OBJECTS), failing the test on a nonzero exit.
 function(generate prefix)
+    set(objects_args "")
+    if(OBJECTS)
+        set(objects_args --objects ${prefix}.objects)
+    endif()
     execute_process(
         COMMAND ${LMSWORLD} ${args} ${ARGN} -o ${prefix}.lms --truth ${prefix}.pairs
-                --poses ${prefix}.tum
+                --poses ${prefix}.tum ${objects_args}
         RESULT_VARIABLE rc ERROR_VARIABLE err)
     if(NOT rc STREQUAL "0")
         message(FATAL_ERROR "lmsworld failed (${rc}): ${err}")
@@ -72,10 +84,18 @@ function(same a b result)
     endif()
 endfunction()
 
+set(outputs lms pairs tum)
+if(MODE STREQUAL "objects" OR MODE STREQUAL "busy_regen")
+    set(OBJECTS 1)
+endif()
+if(OBJECTS)
+    list(APPEND outputs objects)
+endif()
+
 if(MODE STREQUAL "determinism")
     generate(${dir}/a)
     generate(${dir}/b)
-    foreach(ext lms pairs tum)
+    foreach(ext IN LISTS outputs)
         same(${dir}/a.${ext} ${dir}/b.${ext} ok)
         if(NOT ok)
             message(FATAL_ERROR "two runs gave different .${ext} files")
@@ -183,6 +203,33 @@ elseif(MODE STREQUAL "regen")
     if(NOT failed STREQUAL "")
         message(FATAL_ERROR "regenerated files differ from the shipped ones:${failed}\n"
             "(regenerated into ${dir})")
+    endif()
+elseif(MODE STREQUAL "busy_regen")
+    string(REGEX REPLACE "^busy_regen_" "" base ${NAME})
+    generate(${dir}/${base})
+    set(failed "")
+    foreach(ext IN LISTS outputs)
+        same(${dir}/${base}.${ext} ${BUSY_DIR}/${base}.${ext} ok)
+        if(NOT ok)
+            string(APPEND failed " ${base}.${ext}")
+        endif()
+    endforeach()
+    if(NOT failed STREQUAL "")
+        message(FATAL_ERROR "regenerated files differ from the shipped ones:${failed}\n"
+            "(regenerated into ${dir})")
+    endif()
+elseif(MODE STREQUAL "objects")
+    generate(${dir}/s)
+    if(NOT DEFINED TIMING)
+        set(TIMING instant)
+    endif()
+    if(NOT DEFINED VEL_TOL)
+        set(VEL_TOL 0.02)
+    endif()
+    run_checked(${WORLD_CHECK} objects ${dir}/s.objects ${SCENARIO} ${RES} ${MAX_RANGE} ${SKIP}
+        ${TIMING} ${VEL_TOL})
+    if(DEFINED MIN_STILL)
+        run_checked(${WORLD_CHECK} standstill ${dir}/s.pairs ${dir}/s.objects ${MIN_STILL})
     endif()
 elseif(MODE STREQUAL "budget" OR MODE STREQUAL "trust")
     generate(${dir}/s)
