@@ -1416,7 +1416,7 @@ static int cmd_objects(const char *path, const char *name, const char *res_text,
                 const double s = sin(pose.theta);
                 const double err = hypot(c * wx + s * wy - o->vx, -s * wx + c * wy - o->vy);
                 worst_v = fmax(worst_v, err);
-                char what[96];
+                char what[128];
                 (void)snprintf(what, sizeof what,
                                "objects: scan %zu id %zu velocity = differenced positions (m/s)",
                                k, j);
