@@ -364,8 +364,8 @@ static double normal_sample(uint32_t *seed)
 }
 
 #if defined(LMSEGO_UNIT_ON_TARGET)
-#define FIT_TRIALS 300u /* software doubles */
-#define FIT_TOLERANCE 0.30
+#define FIT_TRIALS 120u /* software doubles */
+#define FIT_TOLERANCE 0.45 /* 3.5 standard errors of the scatter's estimate */
 #else
 #define FIT_TRIALS 2000u
 #define FIT_TOLERANCE 0.12 /* four standard errors of the scatter's estimate */
