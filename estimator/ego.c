@@ -1666,9 +1666,6 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->suspect = false;
 }
 
-/* The motion from the last scan to the prepared scan in slot cur, dt_us
- * later: tracked, else searched (in this scan's budget and, if need be, the
- * next scans'). */
 /* A scan de-skewed with a motion (skew, over the line's interval) that
  * the measured one left by d put its points up to d tau / dt off (tau the
  * beams' RMS offset from the scan's time): that much is added to each
@@ -1689,6 +1686,9 @@ static void deskew_variance(ego_output_t *out, const ego_pose_t *skew, uint32_t 
     }
 }
 
+/* The motion from the last scan to the prepared scan in slot cur, dt_us
+ * later: tracked, else searched (in this scan's budget and, if need be, the
+ * next scans'). */
 static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                        uint32_t time_us, uint32_t dt, const ego_pose_t *prior, ego_output_t *out)
 {
@@ -1729,7 +1729,7 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
                   : TRACK_FAILED;
     if (tracked == TRACK_FOUND) {
         out->pose = scale_motion(&out->pose, span, dt);
-        if (state->skew_100us != 0u && (prior != NULL || motion_known(state, dt))) {
+        if (state->skew_100us != 0u) { /* de-skewed with predicted: the prior, or the last motion */
             deskew_variance(out, &predicted, 100u * (uint32_t)state->skew_100us);
         }
         set_velocities(out);

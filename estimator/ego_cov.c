@@ -465,7 +465,6 @@ static int64_t mul_q16(int64_t v, int64_t f)
     return fx_shr_round_s64(v * f, 16u);
 }
 
-
 void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, fx_q16_16_t lever,
                      fx_q2_30_t min_share, ego_weak_t *weak)
 {

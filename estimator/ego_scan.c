@@ -286,12 +286,12 @@ ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const eg
         range_sq += r_sq;
         scan->count++;
     }
+    const uint64_t step_bam = (uint64_t)first_step * beam_step; /* < 2^33 */
     if (deskew) {
-        link_deskewed(scan, params, (uint64_t)first_step * beam_step);
+        link_deskewed(scan, params, step_bam);
     }
     if (scan->count > 0u) {
         /* rad Q30 = bam x 2 pi / 4 = bam x (pi / 2 x 2^29) / 2^29. */
-        const uint64_t step_bam = (uint64_t)first_step * beam_step; /* < 2^33 */
         const uint64_t spacing_q30 = (step_bam * 843314857u) >> 29;
         const uint64_t rms = fx_sqrt_u64((range_sq / scan->count) << 16); /* Q16.16 m */
         scan->rms_range = (fx_q16_16_t)((rms < (uint64_t)INT32_MAX) ? rms : (uint64_t)INT32_MAX);

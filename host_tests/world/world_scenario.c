@@ -745,43 +745,34 @@ typedef struct {
     uint64_t seed; /* splitmix64 state of the map's draws */
 } street_t;
 
-/* A row of buildings along x from x0 to x1 whose facades stand 0-1.5 m
- * behind the line y = facade, away from the road (dir -1: the road is
- * north of them, +1: south); 8-24 m long, 12 m deep, 3-10 m gaps, half
- * of them with recesses. */
-static void building_row(wmap_t *m, pick_t *pick, double x0, double x1, double facade,
-                         double dir)
+/* A row of buildings from `from` to `to` along x (along_y false) or along
+ * y (a cross street), whose facades stand 0-1.5 m behind the line
+ * (y or x) = facade, away from the road (dir -1: the road is on the
+ * higher side of them, +1: the lower); 8-24 m long, 12 m deep, 3-10 m
+ * gaps, half of them with recesses. */
+static void building_row(wmap_t *m, pick_t *pick, double from, double to, double facade,
+                         double dir, bool along_y)
 {
-    double x = x0;
-    while (x < x1) {
+    double at = from;
+    while (at < to) {
         const double len = pick_range(pick, 8.0, 24.0);
         const double back = pick_range(pick, 0.0, 1.5);
         const bool notched = pick_unit(pick) < 0.5;
         const double near = facade + dir * back;
         const double far = near + dir * 12.0;
-        const unsigned edge = (dir < 0.0) ? (unsigned)EDGE_N : (unsigned)EDGE_S;
-        add_building(m, x, fmin(near, far), x + len, fmax(near, far), notched ? edge : 0u, 5.0,
-                     1.5, 0.6);
-        x += len + pick_range(pick, 3.0, 10.0);
-    }
-}
-
-/* The same along y (a cross street): facades on the line x = facade,
- * dir -1: the road is east of them, +1: west. */
-static void building_column(wmap_t *m, pick_t *pick, double y0, double y1, double facade,
-                            double dir)
-{
-    double y = y0;
-    while (y < y1) {
-        const double len = pick_range(pick, 8.0, 24.0);
-        const double back = pick_range(pick, 0.0, 1.5);
-        const bool notched = pick_unit(pick) < 0.5;
-        const double near = facade + dir * back;
-        const double far = near + dir * 12.0;
-        const unsigned edge = (dir < 0.0) ? (unsigned)EDGE_E : (unsigned)EDGE_W;
-        add_building(m, fmin(near, far), y, fmax(near, far), y + len, notched ? edge : 0u, 5.0,
-                     1.5, 0.6);
-        y += len + pick_range(pick, 3.0, 10.0);
+        const double lo = fmin(near, far);
+        const double hi = fmax(near, far);
+        unsigned edge = 0u;
+        if (notched) {
+            edge = along_y ? ((dir < 0.0) ? (unsigned)EDGE_E : (unsigned)EDGE_W)
+                           : ((dir < 0.0) ? (unsigned)EDGE_N : (unsigned)EDGE_S);
+        }
+        if (along_y) {
+            add_building(m, lo, at, hi, at + len, edge, 5.0, 1.5, 0.6);
+        } else {
+            add_building(m, at, lo, at + len, hi, edge, 5.0, 1.5, 0.6);
+        }
+        at += len + pick_range(pick, 3.0, 10.0);
     }
 }
 
@@ -817,7 +808,7 @@ static void build_street(wmap_t *m, const street_t *st)
     pick_t pick = {st->seed};
     for (size_t side = 0u; side < 2u; side++) {
         const double dir = (side == 0u) ? -1.0 : 1.0;
-        building_row(m, &pick, st->from, st->to, st->facade[side], dir);
+        building_row(m, &pick, st->from, st->to, st->facade[side], dir, false);
         if (st->posts[side] != 0.0) {
             kerb_row(m, &pick, st->from, st->to, st->posts[side]);
         }
@@ -1027,15 +1018,15 @@ static void build_crossing(wmap_t *m)
     pick_t pick = {0xC055u};
     const double gap = 8.5; /* facades from the cross street's centre line */
     /* Along our street: facades at y = -7 (south) and 11 (north). */
-    building_row(m, &pick, -80.0, CROSS_X - gap - 12.0, -7.0, -1.0);
-    building_row(m, &pick, CROSS_X + gap, 300.0, -7.0, -1.0);
-    building_row(m, &pick, -80.0, CROSS_X - gap - 12.0, 11.0, 1.0);
-    building_row(m, &pick, CROSS_X + gap, 300.0, 11.0, 1.0);
+    building_row(m, &pick, -80.0, CROSS_X - gap - 12.0, -7.0, -1.0, false);
+    building_row(m, &pick, CROSS_X + gap, 300.0, -7.0, -1.0, false);
+    building_row(m, &pick, -80.0, CROSS_X - gap - 12.0, 11.0, 1.0, false);
+    building_row(m, &pick, CROSS_X + gap, 300.0, 11.0, 1.0, false);
     /* Along the cross street, beyond our street's facades. */
-    building_column(m, &pick, -200.0, -7.0 - 12.0, CROSS_X - gap, -1.0);
-    building_column(m, &pick, -200.0, -7.0 - 12.0, CROSS_X + gap, 1.0);
-    building_column(m, &pick, 11.0, 200.0, CROSS_X - gap, -1.0);
-    building_column(m, &pick, 11.0, 200.0, CROSS_X + gap, 1.0);
+    building_row(m, &pick, -200.0, -7.0 - 12.0, CROSS_X - gap, -1.0, true);
+    building_row(m, &pick, -200.0, -7.0 - 12.0, CROSS_X + gap, 1.0, true);
+    building_row(m, &pick, 11.0, 200.0, CROSS_X - gap, -1.0, true);
+    building_row(m, &pick, 11.0, 200.0, CROSS_X + gap, 1.0, true);
     /* Posts and trees on the kerbs, traffic-light posts at the corners. */
     kerb_row(m, &pick, -80.0, CROSS_X - 7.0, -5.0);
     kerb_row(m, &pick, CROSS_X + 7.0, 300.0, -5.0);
