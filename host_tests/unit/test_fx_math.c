@@ -104,8 +104,10 @@ static void worst_note(worst_t *w, long double err, int64_t arg1, int64_t arg2, 
     }
 }
 
-/* Asserts worst <= limit (1/SUB LSB) and prints the worst case (INFO). */
-static void worst_check(const worst_t *w, int64_t limit, const char *what)
+/* Asserts worst <= limit (1/SUB LSB, a tolerance, so unsigned: Unity takes
+ * the delta of INT_WITHIN uncast as UNITY_UINT) and prints the worst case
+ * (INFO). */
+static void worst_check(const worst_t *w, uint32_t limit, const char *what)
 {
     char msg[320];
     (void)snprintf(msg, sizeof msg,

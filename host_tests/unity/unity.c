@@ -78,7 +78,7 @@ static void emit(const char *s)
     }
 }
 
-static void print_hex_digits(uintmax_t value, unsigned digits)
+static void print_hex_digits(UNITY_UINT value, unsigned digits)
 {
     static const char hex[] = "0123456789ABCDEF";
     while (digits > 0u) {
@@ -112,9 +112,9 @@ static void print(const char *s)
     }
 }
 
-static void print_uint(uintmax_t value)
+static void print_uint(UNITY_UINT value)
 {
-    char digits[sizeof(uintmax_t) * 3u]; /* 3 decimal digits per byte suffice */
+    char digits[sizeof(UNITY_UINT) * 3u]; /* 3 decimal digits per byte suffice */
     size_t n = 0u;
     do {
         digits[n++] = (char)('0' + (int)(value % 10u));
@@ -126,23 +126,26 @@ static void print_uint(uintmax_t value)
 }
 
 /* The magnitude is formed in unsigned arithmetic, so INTMAX_MIN is fine. */
-static void print_int(intmax_t value)
+static void print_int(UNITY_INT value)
 {
     if (value < 0) {
         put('-');
-        print_uint((uintmax_t)0 - (uintmax_t)value);
+        print_uint((UNITY_UINT)0 - (UNITY_UINT)value);
     } else {
-        print_uint((uintmax_t)value);
+        print_uint((UNITY_UINT)value);
     }
 }
 
-static void print_styled(uintmax_t value, UNITY_DISPLAY_STYLE_T style)
+/* A value as the macros passed it: a hex style prints its low 2/4/8 digits. */
+static void print_styled(UNITY_INT value, UNITY_DISPLAY_STYLE_T style)
 {
-    if (style == UNITY_DISPLAY_STYLE_UINT) {
-        print_uint(value);
+    if (style == UNITY_DISPLAY_STYLE_INT) {
+        print_int(value);
+    } else if (style == UNITY_DISPLAY_STYLE_UINT) {
+        print_uint((UNITY_UINT)value);
     } else {
         emit("0x");
-        print_hex_digits(value, (unsigned)style);
+        print_hex_digits((UNITY_UINT)value, (unsigned)style);
     }
 }
 
@@ -344,11 +347,11 @@ void UnityBegin(const char *filename)
     unity_.running = 0;
 }
 
-void UnityDefaultTestRun(UnityTestFunction func, const char *name, UNITY_LINE_TYPE line)
+void UnityDefaultTestRun(UnityTestFunction func, const char *name, int line)
 {
     unity_.func = func;
     unity_.name = name;
-    unity_.line = line;
+    unity_.line = line < 0 ? 0u : (UNITY_LINE_TYPE)line;
     unity_.tests++;
     unity_.failed = 0;
     unity_.ignored = 0;
@@ -423,22 +426,8 @@ void UnityMessage(const char *message, UNITY_LINE_TYPE line)
 
 /* ---- Integers ----------------------------------------------------------- */
 
-void UnityAssertEqualInt(intmax_t expected, intmax_t actual, const char *message,
-                         UNITY_LINE_TYPE line)
-{
-    if (skipping() || expected == actual) {
-        return;
-    }
-    fail_begin(line);
-    emit(" Expected ");
-    print_int(expected);
-    emit(" Was ");
-    print_int(actual);
-    fail_finish(message);
-}
-
-void UnityAssertEqualUint(uintmax_t expected, uintmax_t actual, const char *message,
-                          UNITY_LINE_TYPE line, UNITY_DISPLAY_STYLE_T style)
+void UnityAssertEqualNumber(UNITY_INT expected, UNITY_INT actual, const char *message,
+                            UNITY_LINE_TYPE line, UNITY_DISPLAY_STYLE_T style)
 {
     if (skipping() || expected == actual) {
         return;
@@ -451,37 +440,28 @@ void UnityAssertEqualUint(uintmax_t expected, uintmax_t actual, const char *mess
     fail_finish(message);
 }
 
-void UnityAssertIntWithin(uintmax_t delta, intmax_t expected, intmax_t actual,
-                          const char *message, UNITY_LINE_TYPE line)
+void UnityAssertNumbersWithin(UNITY_UINT delta, UNITY_INT expected, UNITY_INT actual,
+                              const char *message, UNITY_LINE_TYPE line,
+                              UNITY_DISPLAY_STYLE_T style)
 {
-    /* The true distance always fits the unsigned type; modulo arithmetic
-     * yields it exactly. */
-    const uintmax_t distance = expected > actual ? (uintmax_t)expected - (uintmax_t)actual
-                                                 : (uintmax_t)actual - (uintmax_t)expected;
+    /* Signed values are ordered as signed, the others as the UNITY_UINT
+     * they stand for. The true distance always fits UNITY_UINT; modulo
+     * arithmetic yields it exactly. */
+    const UNITY_UINT e = (UNITY_UINT)expected;
+    const UNITY_UINT a = (UNITY_UINT)actual;
+    const int expected_above =
+        style == UNITY_DISPLAY_STYLE_INT ? expected > actual : e > a;
+    const UNITY_UINT distance = expected_above ? e - a : a - e;
     if (skipping() || distance <= delta) {
         return;
     }
     fail_begin(line);
     emit(" Values Not Within Delta ");
-    print_uint(delta);
-    emit(" Expected ");
-    print_int(expected);
-    emit(" Was ");
-    print_int(actual);
-    fail_finish(message);
-}
-
-void UnityAssertUintWithin(uintmax_t delta, uintmax_t expected, uintmax_t actual,
-                           const char *message, UNITY_LINE_TYPE line,
-                           UNITY_DISPLAY_STYLE_T style)
-{
-    const uintmax_t distance = expected > actual ? expected - actual : actual - expected;
-    if (skipping() || distance <= delta) {
-        return;
+    if (style == UNITY_DISPLAY_STYLE_INT) {
+        print_uint(delta);
+    } else {
+        print_styled((UNITY_INT)delta, style);
     }
-    fail_begin(line);
-    emit(" Values Not Within Delta ");
-    print_styled(delta, style);
     emit(" Expected ");
     print_styled(expected, style);
     emit(" Was ");
@@ -553,7 +533,7 @@ void UnityAssertDoublesWithin(double delta, double expected, double actual,
 /* Checks shared by memory and array comparisons: nothing to compare fails,
  * the same pointer (both NULL included) passes, one NULL side fails.
  * Returns nonzero when the elements still need comparing. */
-static int blocks_need_compare(const void *expected, const void *actual, size_t count,
+static int blocks_need_compare(const void *expected, const void *actual, uint32_t count,
                                const char *message, UNITY_LINE_TYPE line)
 {
     if (count == 0u) {
@@ -571,7 +551,7 @@ static int blocks_need_compare(const void *expected, const void *actual, size_t 
     return 1;
 }
 
-void UnityAssertEqualMemory(const void *expected, const void *actual, size_t length,
+void UnityAssertEqualMemory(const void *expected, const void *actual, uint32_t length,
                             const char *message, UNITY_LINE_TYPE line)
 {
     if (skipping() || !blocks_need_compare(expected, actual, length, message, line)) {
@@ -579,7 +559,7 @@ void UnityAssertEqualMemory(const void *expected, const void *actual, size_t len
     }
     const unsigned char *e = expected;
     const unsigned char *a = actual;
-    for (size_t i = 0u; i < length; i++) {
+    for (uint32_t i = 0u; i < length; i++) {
         if (e[i] != a[i]) {
             fail_begin(line);
             emit(" Memory Mismatch. Byte ");
@@ -595,7 +575,7 @@ void UnityAssertEqualMemory(const void *expected, const void *actual, size_t len
 
 /* Element i of an array of the given kind; memcpy avoids alignment and
  * aliasing assumptions about the caller's buffer. */
-static intmax_t array_element(const void *base, size_t i, UNITY_ARRAY_KIND_T kind)
+static UNITY_INT array_element(const void *base, uint32_t i, UNITY_ARRAY_KIND_T kind)
 {
     const unsigned char *bytes = base;
     if (kind == UNITY_ARRAY_INT16) {
@@ -611,29 +591,26 @@ static intmax_t array_element(const void *base, size_t i, UNITY_ARRAY_KIND_T kin
     return bytes[i];
 }
 
-void UnityAssertEqualArray(const void *expected, const void *actual, size_t count,
-                           const char *message, UNITY_LINE_TYPE line, UNITY_ARRAY_KIND_T kind)
+void UnityAssertEqualIntArray(const void *expected, const void *actual, uint32_t count,
+                              const char *message, UNITY_LINE_TYPE line,
+                              UNITY_ARRAY_KIND_T kind)
 {
     if (skipping() || !blocks_need_compare(expected, actual, count, message, line)) {
         return;
     }
-    for (size_t i = 0u; i < count; i++) {
-        const intmax_t e = array_element(expected, i, kind);
-        const intmax_t a = array_element(actual, i, kind);
+    for (uint32_t i = 0u; i < count; i++) {
+        const UNITY_INT e = array_element(expected, i, kind);
+        const UNITY_INT a = array_element(actual, i, kind);
         if (e != a) {
             fail_begin(line);
             emit(" Element ");
             print_uint(i);
             emit(" Expected ");
-            if (kind == UNITY_ARRAY_HEX8) {
-                print_styled((uintmax_t)e, UNITY_DISPLAY_STYLE_HEX8);
-                emit(" Was ");
-                print_styled((uintmax_t)a, UNITY_DISPLAY_STYLE_HEX8);
-            } else {
-                print_int(e);
-                emit(" Was ");
-                print_int(a);
-            }
+            const UNITY_DISPLAY_STYLE_T style =
+                kind == UNITY_ARRAY_HEX8 ? UNITY_DISPLAY_STYLE_HEX8 : UNITY_DISPLAY_STYLE_INT;
+            print_styled(e, style);
+            emit(" Was ");
+            print_styled(a, style);
             fail_finish(message);
         }
     }

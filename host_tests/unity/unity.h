@@ -38,6 +38,19 @@
  * "Unity Double Precision Disabled", and floats print with 7 significant
  * digits instead of 9.
  *
+ * Argument types: as strict as Unity 2.7.0. Every macro hands its arguments
+ * to a function whose parameters have the types of Unity's (UNITY_INT,
+ * UNITY_UINT, float, double, const void *, const char *, uint32_t counts),
+ * with exactly the casts Unity's macros write, and no others: e.g.
+ * TEST_ASSERT_EQUAL_INT16 casts both values to int16_t and then UNITY_INT,
+ * while TEST_ASSERT_INT_WITHIN and TEST_ASSERT_UINT_WITHIN pass the delta
+ * uncast into a UNITY_UINT parameter, so a signed or floating delta is a
+ * -Wsign-conversion / -Wconversion warning here as with the real Unity
+ * (../unity_selftest, probe_strict_*). UNITY_INT and UNITY_UINT are 64-bit,
+ * as Unity's with UNITY_SUPPORT_64: Unity detects that on a 64-bit host;
+ * for a 32-bit target the project assumes a Unity built with it
+ * (-DUNITY_SUPPORT_INT64=ON), since the tests compare 64-bit values.
+ *
  * Names ending in an underscore, and the Unity* functions, are internals
  * used by the public macros; test files use only the TEST_ and UNITY_BEGIN /
  * UNITY_END / RUN_TEST macros and define setUp() and tearDown().
@@ -59,12 +72,25 @@
 #include "unity_config.h"
 #endif
 
+/* Integer types of the comparisons, as in Unity 2.7.0 with UNITY_SUPPORT_64
+ * (see "Argument types" above): 64 bits, `long` where long has 64 bits,
+ * `long long` otherwise. */
+#if ULONG_MAX > 0xFFFFFFFFUL
+typedef long UNITY_INT;
+typedef unsigned long UNITY_UINT;
+#else
+typedef long long UNITY_INT;
+typedef unsigned long long UNITY_UINT;
+#endif
+
 typedef unsigned long UNITY_LINE_TYPE;
 typedef void (*UnityTestFunction)(void);
 
-/* How an unsigned value is printed: decimal, or "0x" plus 2/4/8 digits. */
+/* How a compared value is printed: signed or unsigned decimal, or "0x" plus
+ * 2/4/8 digits (the hex styles' values are their digit counts). */
 typedef enum {
     UNITY_DISPLAY_STYLE_UINT = 0,
+    UNITY_DISPLAY_STYLE_INT = 1,
     UNITY_DISPLAY_STYLE_HEX8 = 2,
     UNITY_DISPLAY_STYLE_HEX16 = 4,
     UNITY_DISPLAY_STYLE_HEX32 = 8
@@ -82,36 +108,35 @@ typedef enum {
 void setUp(void);
 void tearDown(void);
 
-/* Runner. */
+/* Runner. The line is an int, as Unity's, and RUN_TEST passes it uncast. */
 void UnityBegin(const char *filename);
 int UnityEnd(void);
-void UnityDefaultTestRun(UnityTestFunction func, const char *name, UNITY_LINE_TYPE line);
+void UnityDefaultTestRun(UnityTestFunction func, const char *name, int line);
 
 /* Control. A NULL message means "no message". */
 void UnityFail(const char *message, UNITY_LINE_TYPE line);
 void UnityIgnore(const char *message, UNITY_LINE_TYPE line);
 void UnityMessage(const char *message, UNITY_LINE_TYPE line);
 
-/* Comparisons; message may be NULL. */
-void UnityAssertEqualInt(intmax_t expected, intmax_t actual, const char *message,
-                         UNITY_LINE_TYPE line);
-void UnityAssertEqualUint(uintmax_t expected, uintmax_t actual, const char *message,
-                          UNITY_LINE_TYPE line, UNITY_DISPLAY_STYLE_T style);
-void UnityAssertIntWithin(uintmax_t delta, intmax_t expected, intmax_t actual,
-                          const char *message, UNITY_LINE_TYPE line);
-void UnityAssertUintWithin(uintmax_t delta, uintmax_t expected, uintmax_t actual,
-                           const char *message, UNITY_LINE_TYPE line,
-                           UNITY_DISPLAY_STYLE_T style);
+/* Comparisons; message may be NULL. The parameter types are Unity's. With
+ * UNITY_DISPLAY_STYLE_UINT and the hex styles the UNITY_INT values are
+ * compared and printed as UNITY_UINT (the bits the macros' casts kept). */
+void UnityAssertEqualNumber(UNITY_INT expected, UNITY_INT actual, const char *message,
+                            UNITY_LINE_TYPE line, UNITY_DISPLAY_STYLE_T style);
+void UnityAssertNumbersWithin(UNITY_UINT delta, UNITY_INT expected, UNITY_INT actual,
+                              const char *message, UNITY_LINE_TYPE line,
+                              UNITY_DISPLAY_STYLE_T style);
 void UnityAssertFloatsWithin(float delta, float expected, float actual, const char *message,
                              UNITY_LINE_TYPE line);
 #ifdef UNITY_INCLUDE_DOUBLE
 void UnityAssertDoublesWithin(double delta, double expected, double actual,
                               const char *message, UNITY_LINE_TYPE line);
 #endif
-void UnityAssertEqualMemory(const void *expected, const void *actual, size_t length,
+void UnityAssertEqualMemory(const void *expected, const void *actual, uint32_t length,
                             const char *message, UNITY_LINE_TYPE line);
-void UnityAssertEqualArray(const void *expected, const void *actual, size_t count,
-                           const char *message, UNITY_LINE_TYPE line, UNITY_ARRAY_KIND_T kind);
+void UnityAssertEqualIntArray(const void *expected, const void *actual, uint32_t count,
+                              const char *message, UNITY_LINE_TYPE line,
+                              UNITY_ARRAY_KIND_T kind);
 void UnityAssertEqualString(const char *expected, const char *actual, const char *message,
                             UNITY_LINE_TYPE line);
 
@@ -123,31 +148,43 @@ void UnityAssertEqualString(const char *expected, const char *actual, const char
 /* RUN_TEST(func) or RUN_TEST(func, line); the line defaults to the line of
  * the RUN_TEST itself. The trailing dummy keeps the variadic part non-empty. */
 #define RUN_TEST(...) UNITY_RUN_TEST_(__VA_ARGS__, __LINE__, unity_dummy_)
-#define UNITY_RUN_TEST_(func, line, ...) \
-    UnityDefaultTestRun((func), #func, (UNITY_LINE_TYPE)(line))
+#define UNITY_RUN_TEST_(func, line, ...) UnityDefaultTestRun((func), #func, (line))
 
-/* ---- Internal helpers of the assertion macros ---------------------------- */
+/* ---- Internal helpers of the assertion macros ----------------------------
+ *
+ * Every cast below is one Unity 2.7.0 makes; an argument Unity passes uncast
+ * (the delta of INT_WITHIN and UINT_WITHIN, every message) is passed uncast
+ * here too, so a conversion the compiler warns about with the real Unity
+ * warns here as well. */
 
-#define UNITY_LINE_ ((UNITY_LINE_TYPE)(__LINE__))
+#define UNITY_LINE_ (UNITY_LINE_TYPE)(__LINE__)
 #define UNITY_TEST_ASSERT_(cond, msg) \
     do { \
-        if (!(cond)) { \
+        if (cond) { \
+        } else { \
             UnityFail((msg), UNITY_LINE_); \
         } \
     } while (0)
-#define UNITY_EQ_INT_(T, e, a, m) \
-    UnityAssertEqualInt((intmax_t)(T)(e), (intmax_t)(T)(a), (m), UNITY_LINE_)
-#define UNITY_EQ_UINT_(T, e, a, m, style) \
-    UnityAssertEqualUint((uintmax_t)(T)(e), (uintmax_t)(T)(a), (m), UNITY_LINE_, (style))
-#define UNITY_WITHIN_INT_(TD, T, d, e, a, m) \
-    UnityAssertIntWithin((uintmax_t)(TD)(d), (intmax_t)(T)(e), (intmax_t)(T)(a), (m), \
-                         UNITY_LINE_)
-#define UNITY_WITHIN_UINT_(T, d, e, a, m, style) \
-    UnityAssertUintWithin((uintmax_t)(T)(d), (uintmax_t)(T)(e), (uintmax_t)(T)(a), (m), \
-                          UNITY_LINE_, (style))
+/* (UNITY_INT)(e); (UNITY_INT)(T)(e) for the fixed widths. */
+#define UNITY_EQ_(e, a, m, style) \
+    UnityAssertEqualNumber((UNITY_INT)(e), (UNITY_INT)(a), (m), UNITY_LINE_, (style))
+#define UNITY_EQ_W_(T, e, a, m, style) \
+    UnityAssertEqualNumber((UNITY_INT)(T)(e), (UNITY_INT)(T)(a), (m), UNITY_LINE_, (style))
+/* The delta uncast into UNITY_UINT, the values cast to UNITY_INT. */
+#define UNITY_WITHIN_(d, e, a, m, style) \
+    UnityAssertNumbersWithin((d), (UNITY_INT)(e), (UNITY_INT)(a), (m), UNITY_LINE_, (style))
+/* The delta cast to TD, the values to T and then UNITY_INT. */
+#define UNITY_WITHIN_W_(TD, T, d, e, a, m, style) \
+    UnityAssertNumbersWithin((TD)(d), (UNITY_INT)(T)(e), (UNITY_INT)(T)(a), (m), UNITY_LINE_, \
+                             (style))
+/* HEX8_WITHIN: (UNITY_INT)(UNITY_UINT)(uint8_t)(e), as Unity writes it. */
+#define UNITY_HEX8_WITHIN_(d, e, a, m) \
+    UnityAssertNumbersWithin((uint8_t)(d), (UNITY_INT)(UNITY_UINT)(uint8_t)(e), \
+                             (UNITY_INT)(UNITY_UINT)(uint8_t)(a), (m), UNITY_LINE_, \
+                             UNITY_DISPLAY_STYLE_HEX8)
 #define UNITY_ARRAY_(e, a, n, m, kind) \
-    UnityAssertEqualArray((const void *)(e), (const void *)(a), (size_t)(n), (m), UNITY_LINE_, \
-                          (kind))
+    UnityAssertEqualIntArray((const void *)(e), (const void *)(a), (uint32_t)(n), (m), \
+                             UNITY_LINE_, (kind))
 
 /* ---- Control ------------------------------------------------------------ */
 
@@ -172,71 +209,77 @@ void UnityAssertEqualString(const char *expected, const char *actual, const char
 
 /* ---- Signed integers: cast to the named width, printed in decimal ------- */
 
-#define TEST_ASSERT_EQUAL(e, a) UNITY_EQ_INT_(intmax_t, e, a, NULL)
-#define TEST_ASSERT_EQUAL_MESSAGE(e, a, message) UNITY_EQ_INT_(intmax_t, e, a, (message))
-#define TEST_ASSERT_EQUAL_INT(e, a) UNITY_EQ_INT_(intmax_t, e, a, NULL)
-#define TEST_ASSERT_EQUAL_INT_MESSAGE(e, a, message) UNITY_EQ_INT_(intmax_t, e, a, (message))
-#define TEST_ASSERT_EQUAL_INT8(e, a) UNITY_EQ_INT_(int8_t, e, a, NULL)
-#define TEST_ASSERT_EQUAL_INT8_MESSAGE(e, a, message) UNITY_EQ_INT_(int8_t, e, a, (message))
-#define TEST_ASSERT_EQUAL_INT16(e, a) UNITY_EQ_INT_(int16_t, e, a, NULL)
-#define TEST_ASSERT_EQUAL_INT16_MESSAGE(e, a, message) UNITY_EQ_INT_(int16_t, e, a, (message))
-#define TEST_ASSERT_EQUAL_INT32(e, a) UNITY_EQ_INT_(int32_t, e, a, NULL)
-#define TEST_ASSERT_EQUAL_INT32_MESSAGE(e, a, message) UNITY_EQ_INT_(int32_t, e, a, (message))
+#define TEST_ASSERT_EQUAL(e, a) UNITY_EQ_(e, a, NULL, UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_MESSAGE(e, a, message) \
+    UNITY_EQ_(e, a, (message), UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT(e, a) UNITY_EQ_(e, a, NULL, UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT_MESSAGE(e, a, message) \
+    UNITY_EQ_(e, a, (message), UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT8(e, a) UNITY_EQ_W_(int8_t, e, a, NULL, UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT8_MESSAGE(e, a, message) \
+    UNITY_EQ_W_(int8_t, e, a, (message), UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT16(e, a) UNITY_EQ_W_(int16_t, e, a, NULL, UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT16_MESSAGE(e, a, message) \
+    UNITY_EQ_W_(int16_t, e, a, (message), UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT32(e, a) UNITY_EQ_W_(int32_t, e, a, NULL, UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_EQUAL_INT32_MESSAGE(e, a, message) \
+    UNITY_EQ_W_(int32_t, e, a, (message), UNITY_DISPLAY_STYLE_INT)
 
 /* ---- Unsigned integers: cast to the named width, printed in decimal ----- */
 
-#define TEST_ASSERT_EQUAL_UINT(e, a) \
-    UNITY_EQ_UINT_(uintmax_t, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
+#define TEST_ASSERT_EQUAL_UINT(e, a) UNITY_EQ_(e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
 #define TEST_ASSERT_EQUAL_UINT_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uintmax_t, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
-#define TEST_ASSERT_EQUAL_UINT8(e, a) UNITY_EQ_UINT_(uint8_t, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
+    UNITY_EQ_(e, a, (message), UNITY_DISPLAY_STYLE_UINT)
+#define TEST_ASSERT_EQUAL_UINT8(e, a) UNITY_EQ_W_(uint8_t, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
 #define TEST_ASSERT_EQUAL_UINT8_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uint8_t, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
+    UNITY_EQ_W_(uint8_t, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
 #define TEST_ASSERT_EQUAL_UINT16(e, a) \
-    UNITY_EQ_UINT_(uint16_t, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
+    UNITY_EQ_W_(uint16_t, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
 #define TEST_ASSERT_EQUAL_UINT16_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uint16_t, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
+    UNITY_EQ_W_(uint16_t, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
 #define TEST_ASSERT_EQUAL_UINT32(e, a) \
-    UNITY_EQ_UINT_(uint32_t, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
+    UNITY_EQ_W_(uint32_t, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
 #define TEST_ASSERT_EQUAL_UINT32_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uint32_t, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
+    UNITY_EQ_W_(uint32_t, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
 
-/* ---- Hex: cast to the width, printed as 0x and 2/4/8 upper-case digits --- */
+/* ---- Hex: cast to the width, printed as 0x and 2/4/8 upper-case digits ---
+ * (Unity casts to the signed type of the width; only the low bits print.) */
 
-#define TEST_ASSERT_EQUAL_HEX(e, a) UNITY_EQ_UINT_(uint32_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX32)
+#define TEST_ASSERT_EQUAL_HEX(e, a) UNITY_EQ_W_(int32_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX32)
 #define TEST_ASSERT_EQUAL_HEX_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uint32_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX32)
-#define TEST_ASSERT_EQUAL_HEX8(e, a) UNITY_EQ_UINT_(uint8_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX8)
+    UNITY_EQ_W_(int32_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX32)
+#define TEST_ASSERT_EQUAL_HEX8(e, a) UNITY_EQ_W_(int8_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX8)
 #define TEST_ASSERT_EQUAL_HEX8_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uint8_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX8)
+    UNITY_EQ_W_(int8_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX8)
 #define TEST_ASSERT_EQUAL_HEX16(e, a) \
-    UNITY_EQ_UINT_(uint16_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX16)
+    UNITY_EQ_W_(int16_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX16)
 #define TEST_ASSERT_EQUAL_HEX16_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uint16_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX16)
+    UNITY_EQ_W_(int16_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX16)
 #define TEST_ASSERT_EQUAL_HEX32(e, a) \
-    UNITY_EQ_UINT_(uint32_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX32)
+    UNITY_EQ_W_(int32_t, e, a, NULL, UNITY_DISPLAY_STYLE_HEX32)
 #define TEST_ASSERT_EQUAL_HEX32_MESSAGE(e, a, message) \
-    UNITY_EQ_UINT_(uint32_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX32)
+    UNITY_EQ_W_(int32_t, e, a, (message), UNITY_DISPLAY_STYLE_HEX32)
 
-/* ---- Integer ranges: pass iff |e - a| <= delta, computed without wrap ---- */
+/* ---- Integer ranges: pass iff |e - a| <= delta, computed without wrap ----
+ * INT_WITHIN and UINT_WITHIN take the delta as it is: it must convert to
+ * UNITY_UINT without a warning (a signed or 64-bit-on-32 delta does not). */
 
-#define TEST_ASSERT_INT_WITHIN(d, e, a) UNITY_WITHIN_INT_(uintmax_t, intmax_t, d, e, a, NULL)
+#define TEST_ASSERT_INT_WITHIN(d, e, a) UNITY_WITHIN_(d, e, a, NULL, UNITY_DISPLAY_STYLE_INT)
 #define TEST_ASSERT_INT_WITHIN_MESSAGE(d, e, a, message) \
-    UNITY_WITHIN_INT_(uintmax_t, intmax_t, d, e, a, (message))
-#define TEST_ASSERT_INT16_WITHIN(d, e, a) UNITY_WITHIN_INT_(uint16_t, int16_t, d, e, a, NULL)
+    UNITY_WITHIN_(d, e, a, (message), UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_INT16_WITHIN(d, e, a) \
+    UNITY_WITHIN_W_(uint16_t, int16_t, d, e, a, NULL, UNITY_DISPLAY_STYLE_INT)
 #define TEST_ASSERT_INT16_WITHIN_MESSAGE(d, e, a, message) \
-    UNITY_WITHIN_INT_(uint16_t, int16_t, d, e, a, (message))
-#define TEST_ASSERT_INT32_WITHIN(d, e, a) UNITY_WITHIN_INT_(uint32_t, int32_t, d, e, a, NULL)
+    UNITY_WITHIN_W_(uint16_t, int16_t, d, e, a, (message), UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_INT32_WITHIN(d, e, a) \
+    UNITY_WITHIN_W_(uint32_t, int32_t, d, e, a, NULL, UNITY_DISPLAY_STYLE_INT)
 #define TEST_ASSERT_INT32_WITHIN_MESSAGE(d, e, a, message) \
-    UNITY_WITHIN_INT_(uint32_t, int32_t, d, e, a, (message))
-#define TEST_ASSERT_UINT_WITHIN(d, e, a) \
-    UNITY_WITHIN_UINT_(uintmax_t, d, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
+    UNITY_WITHIN_W_(uint32_t, int32_t, d, e, a, (message), UNITY_DISPLAY_STYLE_INT)
+#define TEST_ASSERT_UINT_WITHIN(d, e, a) UNITY_WITHIN_(d, e, a, NULL, UNITY_DISPLAY_STYLE_UINT)
 #define TEST_ASSERT_UINT_WITHIN_MESSAGE(d, e, a, message) \
-    UNITY_WITHIN_UINT_(uintmax_t, d, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
-#define TEST_ASSERT_HEX8_WITHIN(d, e, a) \
-    UNITY_WITHIN_UINT_(uint8_t, d, e, a, NULL, UNITY_DISPLAY_STYLE_HEX8)
-#define TEST_ASSERT_HEX8_WITHIN_MESSAGE(d, e, a, message) \
-    UNITY_WITHIN_UINT_(uint8_t, d, e, a, (message), UNITY_DISPLAY_STYLE_HEX8)
+    UNITY_WITHIN_(d, e, a, (message), UNITY_DISPLAY_STYLE_UINT)
+#define TEST_ASSERT_HEX8_WITHIN(d, e, a) UNITY_HEX8_WITHIN_(d, e, a, NULL)
+#define TEST_ASSERT_HEX8_WITHIN_MESSAGE(d, e, a, message) UNITY_HEX8_WITHIN_(d, e, a, (message))
 
 /* ---- Floating point ----------------------------------------------------- */
 
@@ -260,9 +303,10 @@ void UnityAssertEqualString(const char *expected, const char *actual, const char
 /* ---- Memory, arrays, strings -------------------------------------------- */
 
 #define TEST_ASSERT_EQUAL_MEMORY(e, a, len) \
-    UnityAssertEqualMemory((const void *)(e), (const void *)(a), (size_t)(len), NULL, UNITY_LINE_)
+    UnityAssertEqualMemory((const void *)(e), (const void *)(a), (uint32_t)(len), NULL, \
+                           UNITY_LINE_)
 #define TEST_ASSERT_EQUAL_MEMORY_MESSAGE(e, a, len, message) \
-    UnityAssertEqualMemory((const void *)(e), (const void *)(a), (size_t)(len), (message), \
+    UnityAssertEqualMemory((const void *)(e), (const void *)(a), (uint32_t)(len), (message), \
                            UNITY_LINE_)
 #define TEST_ASSERT_EQUAL_UINT8_ARRAY(e, a, n) UNITY_ARRAY_(e, a, n, NULL, UNITY_ARRAY_UINT8)
 #define TEST_ASSERT_EQUAL_UINT8_ARRAY_MESSAGE(e, a, n, message) \
