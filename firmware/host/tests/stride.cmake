@@ -19,7 +19,7 @@ set(want_odom ${DATA}/intel_first12_stride2.odom)
 execute_process(COMMAND ${EXE} import-carmen ${log} -o ${OUT_DIR}/s2.lms
                         --stride 2 --odometry ${OUT_DIR}/s2.odom
     RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(NOT rc EQUAL 0 OR NOT err MATCHES "scans=6 unsupported=0 unit=cm no_return=81.83 stride=2 read=12\n")
+if(NOT rc EQUAL 0 OR NOT err MATCHES "scans=6 unsupported=0 unit=cm no_return=81.83 stride=2 read=12;")
     message(FATAL_ERROR "import --stride 2 failed (${rc}): ${err}")
 endif()
 execute_process(COMMAND ${EXE} scans ${OUT_DIR}/s2.lms OUTPUT_VARIABLE scans RESULT_VARIABLE rc)
@@ -39,7 +39,7 @@ foreach(name default one)
     endif()
     execute_process(COMMAND ${EXE} import-carmen ${log} -o ${OUT_DIR}/s1_${name}.lms ${args}
         RESULT_VARIABLE rc ERROR_VARIABLE err)
-    if(NOT rc EQUAL 0 OR NOT err MATCHES "scans=12 unsupported=0 unit=cm no_return=81.83\n")
+    if(NOT rc EQUAL 0 OR NOT err MATCHES "scans=12 unsupported=0 unit=cm no_return=81.83;")
         message(FATAL_ERROR "import ${args} failed (${rc}): ${err}")
     endif()
     file(SHA256 ${OUT_DIR}/s1_${name}.lms sha_${name})
@@ -109,7 +109,7 @@ endif()
 execute_process(COMMAND ${EXE} import-carmen ${log} -o ${OUT_DIR}/s2o1.lms
                         --stride 2 --offset 1 --odometry ${OUT_DIR}/s2o1.odom
     RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(NOT rc EQUAL 0 OR NOT err MATCHES "scans=6 unsupported=0 unit=cm no_return=81.83 stride=2 read=12\n")
+if(NOT rc EQUAL 0 OR NOT err MATCHES "scans=6 unsupported=0 unit=cm no_return=81.83 stride=2 read=12;")
     message(FATAL_ERROR "import --stride 2 --offset 1 failed (${rc}): ${err}")
 endif()
 file(STRINGS ${OUT_DIR}/s2o1.odom got REGEX "^[0-9]")
