@@ -8,6 +8,12 @@
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
  *
+ * and a line more when the input ends inside a telegram (left out; exit
+ * 0: a recording stopped by hand ends so), when it ends during a search,
+ * or when time_s wrapped. An input without a single scan gets one line
+ * saying so instead, exit 1 (stream_frames_no_scan). --period takes 0.001
+ * .. 10 s (PERIOD_MIN_S, PERIOD_MAX_S below say why).
+ *
  * Scan times: a raw stream's scans are one period apart from 0 (scan *
  * period; --period). A recording with arrival times (`lmsego record`,
  * `run --record`) is timed by them through the live core's tracker
