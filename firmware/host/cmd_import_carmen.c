@@ -471,7 +471,7 @@ static const char help[] =
     "  --offset O    ... starting at scan O (default 0), below K\n"
     "\n"
     "output: STREAM (and OUT); on stderr one line: scans=N unsupported=U unit=cm|mm\n"
-    "  no_return=M|none (where it came from): how many readings became no return\n"
+    "  no_return=M|none; where M came from: how many readings became no return\n"
     "exit status: 0 ok; 1 LOG cannot be read, is not a CARMEN log, holds no laser scan,\n"
     "  or would convert to nothing but no return (every reading its largest: give\n"
     "  --no-return); an output cannot be written; 2 bad command line\n";
