@@ -64,10 +64,12 @@ int cli_usage_error(const cli_command_t *cmd, const char *problem, const char *a
     return CLI_EXIT_USAGE;
 }
 
-void cli_print_command_usage(const cli_command_t *cmd)
+void cli_print_command_usage(const cli_command_t *cmd, const char *help)
 {
     (void)printf("usage: lmsego %s %s\n  %s\n", cmd->name, cmd->synopsis, cmd->summary);
-    (void)puts("  FILE is a raw recorded telegram stream (scanner -> host); '-' reads stdin.");
+    if (help != NULL) {
+        (void)printf("\n%s", help);
+    }
 }
 
 void cli_print_csv_columns(const char *time_text, bool latency)

@@ -46,8 +46,23 @@ void cli_file_error(const char *context, const char *file, const char *problem);
 int cli_usage_error(const cli_command_t *cmd, const char *problem, const char *arg,
                     const char *detail);
 
-/* Usage of one subcommand on stdout ("usage: lmsego stats FILE" + summary). */
-void cli_print_command_usage(const cli_command_t *cmd);
+/* The help of one subcommand on stdout: "usage: lmsego <name> <synopsis>",
+ * its summary, then help (may be NULL): what it reads, its options with
+ * units and defaults, what it writes and its exit status. Each command
+ * keeps its help text beside the code that parses its options. */
+void cli_print_command_usage(const cli_command_t *cmd, const char *help);
+
+/* The input of the commands that read a recorded stream, for their help. */
+#define CLI_HELP_STREAM_INPUT                                                                    \
+    "input:\n"                                                                                   \
+    "  FILE          a recorded telegram stream: the raw bytes an LMS 2xx sent (scanner ->\n"    \
+    "                host), or a recording of `lmsego record` (the same with arrival\n"          \
+    "                times); '-' reads standard input\n"
+
+/* The exit status of the commands that read one FILE, for their help. */
+#define CLI_HELP_EXIT_STATUS                                                                     \
+    "exit status: 0 ok; 1 the input cannot be read, holds no scan (no valid LMS\n"              \
+    "  telegram at all: an empty file, noise, zeros), or output failed; 2 bad command line\n"
 
 /* The output columns of replay / run on stdout, with units; the time
  * column as time_text says (what its zero is); latency: run's latency_ms

@@ -7,8 +7,10 @@
  *
  *   lmsego: frames: frames=N crc_errors=E length_errors=L truncated=T bytes_skipped=B
  *
- * Exit 0 however damaged the stream, 1 when it cannot be read or stdout
- * fails, 2 for a bad command line.
+ * Exit 0 however damaged the stream as long as one frame decodes; 1 when
+ * none does (an empty file, or not a frame stream: that line instead of
+ * the summary), when it cannot be read or stdout fails; 2 for a bad
+ * command line.
  */
 #include <stdio.h>
 #include <string.h>
@@ -33,12 +35,27 @@ static bool print_frame(const ego_frame_t *f, bool *header_written)
     return fwrite(line, 1u, n, stdout) == n;
 }
 
+static const char help[] =
+    "input:\n"
+    "  FILE          binary ego-motion frames (docs/firmware.md, \"Binary ego-motion\n"
+    "                frames\") as `lmsego replay --frames OUT` or the firmware write\n"
+    "                them, not a telegram stream; '-' reads standard input\n"
+    "options: none\n";
+
+static const char help_tail[] =
+    "\nstderr: frames=N crc_errors=E length_errors=L truncated=T bytes_skipped=B (damaged\n"
+    "  frames and stray bytes are skipped and counted)\n"
+    "exit status: 0 ok; 1 no frame decodes (an empty file, or not a frame stream), the\n"
+    "  input cannot be read or output failed; 2 bad command line\n";
+
 int cmd_frames(const cli_command_t *self, int argc, char **argv)
 {
     const char *path = NULL;
     for (int i = 1; i < argc; i++) {
         if (cli_is_help(argv[i])) {
-            cli_print_command_usage(self);
+            cli_print_command_usage(self, help);
+            cli_print_csv_columns("the scan's time the frame carries (replay's time_s)", false);
+            (void)fputs(help_tail, stdout);
             return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
         }
         const int rc = cli_take_file(self, argv[i], &path);
@@ -61,6 +78,7 @@ int cmd_frames(const cli_command_t *self, int argc, char **argv)
     ego_frame_decoder_init(&dec);
     bool header_written = false;
     bool write_failed = false;
+    uint64_t bytes = 0u; /* read */
     stream_read_t r;
     for (;;) { /* ends at the end of the input or a read error */
         size_t got = 0u;
@@ -68,6 +86,7 @@ int cmd_frames(const cli_command_t *self, int argc, char **argv)
         if (r != STREAM_READ_DATA) {
             break;
         }
+        bytes += got;
         size_t offset = 0u;
         while (offset < got) { /* each feed uses at least one byte */
             size_t used = 0u;
@@ -87,6 +106,14 @@ int cmd_frames(const cli_command_t *self, int argc, char **argv)
         return CLI_EXIT_RUNTIME;
     }
     const ego_frame_stats_t *st = ego_frame_stats(&dec);
+    if (st->frames == 0u) {
+        char problem[96];
+        (void)snprintf(problem, sizeof problem,
+                       "%llu bytes, none a valid frame (a telegram stream? replay reads those)",
+                       (unsigned long long)bytes);
+        cli_file_error("frames: no frame in ", shown, problem);
+        return CLI_EXIT_RUNTIME;
+    }
     (void)fprintf(stderr,
                   "lmsego: frames: frames=%lu crc_errors=%lu length_errors=%lu truncated=%lu "
                   "bytes_skipped=%lu\n",

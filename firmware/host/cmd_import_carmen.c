@@ -17,7 +17,13 @@
  * there). The no-return code is the largest reading of the log (CARMEN
  * loggers write the maximum range for "no return": 81.83 m in intel,
  * 50.00 m in aces), or --no-return M: readings at or above it, and any
- * reading beyond what the unit can hold, become the LMS no-return value.
+ * reading beyond what the unit can hold, become the LMS no-return value;
+ * --no-return none: no reading is one. The summary on stderr says which
+ * was taken and how many readings it turned into no return. A log whose
+ * every reading is its largest (one that never reaches its maximum range
+ * and sees a wall at one distance) would convert to nothing but no
+ * return: refused, unless --no-return says what to do. A log without a
+ * laser scan (empty, another text) is refused too, and no STREAM written.
  *
  * --odometry OUT writes `i j dx dy dtheta` between consecutive scans from
  * the ODOM records: increments chained into a continuous trajectory, the
@@ -34,10 +40,13 @@
  * odometry chaining, which needs every laser line to spot re-anchoring.
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include "commands.h"
@@ -170,20 +179,28 @@ typedef struct {
     const char *log_path;
     const char *out_path;
     const char *odom_path;
-    double no_return; /* 0: the largest reading */
+    double no_return; /* 0: the largest reading; INFINITY: none (--no-return none) */
     unsigned long stride;
     unsigned long offset; /* < stride */
 } import_args_t;
 
-/* Pass 1: the largest reading, and the smallest reading that is not a
- * whole number of centimetres (+infinity when there is none). Returns -1
- * for a line longer than the buffer or binary data. */
-static int survey(gzFile in, char *line, double *largest, double *smallest_not_cm)
+/* What pass 1 learns of the log. */
+typedef struct {
+    unsigned long scans;     /* laser lines that convert */
+    unsigned long readings;  /* their readings */
+    double largest;          /* the largest reading */
+    unsigned long at_largest; /* readings equal to it */
+    double smallest_not_cm;  /* the smallest reading not a whole number of cm, or +inf */
+} survey_t;
+
+/* Pass 1 over the log. Returns 0, -1 for a line longer than the buffer or
+ * binary data, -2 for a read error (a corrupt or truncated gzip stream). */
+static int survey(gzFile in, char *line, survey_t *sv)
 {
     static char *tok[LINE_MAX_BYTES / 2u];
     static laser_t l;
-    *largest = 0.0;
-    *smallest_not_cm = INFINITY;
+    memset(sv, 0, sizeof *sv);
+    sv->smallest_not_cm = INFINITY;
     while (gzgets(in, line, (int)LINE_MAX_BYTES) != NULL) {
         if (strchr(line, '\n') == NULL && !gzeof(in)) {
             return -1; /* a line longer than the buffer, or a NUL byte */
@@ -192,15 +209,45 @@ static int survey(gzFile in, char *line, double *largest, double *smallest_not_c
         if (ntok == 0u || parse_laser(tok, ntok, &l) != 1) {
             continue;
         }
+        sv->scans++;
         for (unsigned k = 0u; k < l.n; k++) {
             const double cm = l.range[k] * 100.0;
-            *largest = fmax(*largest, l.range[k]);
+            sv->readings++;
+            if (l.range[k] > sv->largest) {
+                sv->largest = l.range[k];
+                sv->at_largest = 0u;
+            }
+            sv->at_largest += (l.range[k] == sv->largest) ? 1u : 0u;
             if (fabs(cm - round(cm)) > 1e-6) {
-                *smallest_not_cm = fmin(*smallest_not_cm, l.range[k]);
+                sv->smallest_not_cm = fmin(sv->smallest_not_cm, l.range[k]);
             }
         }
     }
-    return 0;
+    return gzeof(in) ? 0 : -2;
+}
+
+/* Opens the log for reading through zlib; a directory is refused (gzopen
+ * takes it, and its reads fail). NULL after a message. */
+static gzFile open_log(const char *path)
+{
+    const int fd = open(path, O_RDONLY);
+    struct stat st;
+    int error = 0;
+    if (fd < 0) {
+        error = errno;
+    } else if (fstat(fd, &st) != 0) {
+        error = errno;
+    } else if (S_ISDIR(st.st_mode)) {
+        error = EISDIR;
+    }
+    gzFile in = (error == 0) ? gzdopen(fd, "rb") : NULL;
+    if (in == NULL) {
+        if (fd >= 0) {
+            (void)close(fd);
+        }
+        cli_file_error("cannot open ", path, strerror(error != 0 ? error : ENOMEM));
+    }
+    return in;
 }
 
 static int import(const import_args_t *a)
@@ -211,23 +258,48 @@ static int import(const import_args_t *a)
     static lms_scan_t scan;
     static uint8_t telegram[LMS_TELEGRAM_MAX];
 
-    gzFile in = gzopen(a->log_path, "rb");
+    gzFile in = open_log(a->log_path);
     if (in == NULL) {
-        cli_file_error("cannot open ", a->log_path, strerror(errno != 0 ? errno : EIO));
         return CLI_EXIT_RUNTIME;
     }
-    double largest = 0.0;
-    double smallest_not_cm = INFINITY;
-    if (survey(in, line, &largest, &smallest_not_cm) != 0) {
+    static survey_t sv;
+    const int surveyed = survey(in, line, &sv);
+    if (surveyed != 0) {
         (void)gzclose(in);
-        cli_file_error("not a CARMEN text log: ", a->log_path,
-                       "a line over 64 KiB, or binary data");
+        cli_file_error((surveyed == -1) ? "not a CARMEN text log: " : "error reading ",
+                       a->log_path,
+                       (surveyed == -1) ? "a line over 64 KiB, or binary data"
+                                        : "corrupt or truncated");
         return CLI_EXIT_RUNTIME;
     }
-    const double no_return = (a->no_return > 0.0) ? a->no_return : largest;
+    /* Kept scans: O, O + K, ... below sv.scans. */
+    const unsigned long to_keep =
+        (sv.scans > a->offset) ? (sv.scans - a->offset - 1u) / a->stride + 1u : 0u;
+    const char *refused = NULL;
+    char why[160];
+    if (sv.scans == 0u) {
+        refused = "no laser scan (FLASER, RLASER or ROBOTLASER1 of 180/181 or 360/361 "
+                  "beams from -90 deg)";
+    } else if (to_keep == 0u) {
+        (void)snprintf(why, sizeof why, "--offset %lu, but the log has %lu laser scans",
+                       a->offset, sv.scans);
+        refused = why;
+    } else if (a->no_return == 0.0 && sv.at_largest == sv.readings) {
+        (void)snprintf(why, sizeof why,
+                       "every reading is %.2f m, its largest, the default no-return: give "
+                       "--no-return M or none",
+                       sv.largest);
+        refused = why;
+    }
+    if (refused != NULL) {
+        (void)gzclose(in);
+        cli_file_error("import-carmen: nothing to convert in ", a->log_path, refused);
+        return CLI_EXIT_RUNTIME;
+    }
+    const double no_return = (a->no_return > 0.0) ? a->no_return : sv.largest;
     /* Centimetres lose nothing when every real reading (below the
      * no-return code) is a whole number of them. */
-    const int whole_cm = smallest_not_cm >= no_return;
+    const int whole_cm = sv.smallest_not_cm >= no_return;
     (void)gzrewind(in);
 
     FILE *out = fopen(a->out_path, "wb");
@@ -252,6 +324,9 @@ static int import(const import_args_t *a)
 
     unsigned long scans = 0u; /* laser scans read, kept or not */
     unsigned long kept = 0u;
+    unsigned long readings = 0u;   /* of the kept scans */
+    unsigned long no_returns = 0u; /* of those written as no return */
+    unsigned long beyond = 0u;     /* ... below no_return, beyond the unit */
     unsigned long unsupported = 0u;
     pose_t cont = {0.0, 0.0, 0.0};
     pose_t prev_odom = {0.0, 0.0, 0.0};
@@ -309,6 +384,11 @@ static int import(const import_args_t *a)
             if (k < l.n && l.range[k] < no_return) {
                 const double units = round(l.range[k] * per_metre);
                 v = (units <= (double)largest_code) ? (uint16_t)units : no_return_code;
+                beyond += (units > (double)largest_code) ? 1u : 0u;
+            }
+            if (k < l.n) { /* a missing last beam is no reading */
+                readings++;
+                no_returns += (v == no_return_code) ? 1u : 0u;
             }
             scan.values[k] = v;
         }
@@ -347,12 +427,54 @@ static int import(const import_args_t *a)
     if (a->stride > 1u) {
         (void)snprintf(strided, sizeof strided, " stride=%lu read=%lu", a->stride, scans);
     }
+    char beyond_text[64] = "";
+    if (beyond > 0u) {
+        (void)snprintf(beyond_text, sizeof beyond_text, " (%lu beyond the unit's %.3f m)", beyond,
+                       (double)largest_code / per_metre);
+    }
+    char taken[48];
+    if (isinf(no_return)) {
+        (void)snprintf(taken, sizeof taken, "none");
+    } else {
+        (void)snprintf(taken, sizeof taken, "%.2f", no_return);
+    }
     (void)fprintf(stderr,
-                  "lmsego: import-carmen: scans=%lu unsupported=%lu unit=%s no_return=%.2f%s%s\n",
-                  kept, unsupported, whole_cm ? "cm" : "mm", no_return, strided,
-                  whole_cm ? "" : " (replay with --mode 0F)");
+                  "lmsego: import-carmen: scans=%lu unsupported=%lu unit=%s no_return=%s%s%s; "
+                  "no_return is %s: %lu of %lu readings written as no return%s\n",
+                  kept, unsupported, whole_cm ? "cm" : "mm", taken, strided,
+                  whole_cm ? "" : " (replay with --mode 0F)",
+                  (a->no_return == 0.0) ? "the log's largest reading (--no-return M|none sets it)"
+                                        : "--no-return's",
+                  no_returns, readings, beyond_text);
     return CLI_EXIT_OK;
 }
+
+static const char help[] =
+    "input:\n"
+    "  LOG           a CARMEN laser log, plain text or gzip'd: its FLASER, RLASER and\n"
+    "                ROBOTLASER1 lines of 180/181 beams at 1 deg or 360/361 at 0.5 deg\n"
+    "                from -90 deg (others are counted as unsupported), its ODOM lines\n"
+    "options:\n"
+    "  -o STREAM     the LMS 2xx telegram stream to write (required): one B0 scan per\n"
+    "                laser line, 181 or 361 values; in cm (measuring mode 00) when\n"
+    "                every reading is a whole number of cm, else in mm (mode 0F: replay\n"
+    "                and scans then need --mode 0F)\n"
+    "  --no-return M|none  readings at or above M metres are written as no return\n"
+    "                (default: the log's largest reading, which CARMEN loggers write\n"
+    "                for no return: 81.83 m in intel, 50.00 m in aces; a log that\n"
+    "                never reaches its maximum range loses its farthest returns so:\n"
+    "                give M); none: every reading is a return. Readings beyond the\n"
+    "                unit (81.82 m in cm, 65.535 m in mm) are no return either way\n"
+    "  --odometry OUT  writes the odometry between kept scans, 'i j dx dy dtheta'\n"
+    "                (m, m, rad: scan j's pose in scan i's frame), for replay --prior\n"
+    "  --stride K    keeps every K-th laser scan (default 1), 1..100000\n"
+    "  --offset O    ... starting at scan O (default 0), below K\n"
+    "\n"
+    "output: STREAM (and OUT); on stderr one line: scans=N unsupported=U unit=cm|mm\n"
+    "  no_return=M|none; where M came from: how many readings became no return\n"
+    "exit status: 0 ok; 1 LOG cannot be read, is not a CARMEN log, holds no laser scan,\n"
+    "  or would convert to nothing but no return (every reading its largest: give\n"
+    "  --no-return); an output cannot be written; 2 bad command line\n";
 
 int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
 {
@@ -361,7 +483,7 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (cli_is_help(arg)) {
-            cli_print_command_usage(self);
+            cli_print_command_usage(self, help);
             return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
         }
         if (strcmp(arg, "-o") == 0 || strcmp(arg, "--odometry") == 0) {
@@ -375,8 +497,10 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
             }
             i++;
         } else if (strcmp(arg, "--no-return") == 0) {
-            if (value == NULL || number(value, &a.no_return) != 0 || a.no_return <= 0.0) {
-                return cli_usage_error(self, "invalid --no-return", value, "metres, > 0");
+            if (value != NULL && strcmp(value, "none") == 0) {
+                a.no_return = INFINITY;
+            } else if (value == NULL || number(value, &a.no_return) != 0 || a.no_return <= 0.0) {
+                return cli_usage_error(self, "invalid --no-return", value, "metres, > 0, or none");
             }
             i++;
         } else if (strcmp(arg, "--stride") == 0) {

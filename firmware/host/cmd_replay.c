@@ -8,6 +8,12 @@
  *
  *   lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D
  *
+ * and a line more when the input ends inside a telegram (left out; exit
+ * 0: a recording stopped by hand ends so), when it ends during a search,
+ * or when time_s wrapped. An input without a single scan gets one line
+ * saying so instead, exit 1 (stream_frames_no_scan). --period takes 0.001
+ * .. 10 s (PERIOD_MIN_S, PERIOD_MAX_S below say why).
+ *
  * Scan times: a raw stream's scans are one period apart from 0 (scan *
  * period; --period). A recording with arrival times (`lmsego record`,
  * `run --record`) is timed by them through the live core's tracker
@@ -84,6 +90,8 @@ typedef struct {
     int header_written; /* --frames: the CSV header is out */
     double x, y, theta; /* integrated pose for --tum */
     unsigned long recovering; /* lines flagged recovering since the last answer */
+    uint32_t last_time_us;    /* of the last line, to see the 32-bit clock wrap */
+    int wrapped;
     /* --pairs: the scan the next motion starts from (valid once have_ref),
      * and the first scan of a run of recovering lines (the scan a search
      * started from: a recovered line's motion ends there). */
@@ -96,6 +104,8 @@ typedef struct {
 static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
 {
     replay_io_t *io = ctx;
+    io->wrapped |= time_us < io->last_time_us;
+    io->last_time_us = time_us;
     io->recovering = ((out->flags & EGO_FLAG_RECOVERING) != 0u) ? io->recovering + 1ul : 0ul;
     const double dx = (double)out->pose.x / 65536.0;
     const double dy = (double)out->pose.y / 65536.0;
@@ -187,6 +197,7 @@ static int load_priors(const char *path, replay_io_t *io)
     char line[512];
     unsigned long line_no = 0u;
     int rc = 0;
+    errno = 0;
     while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
         line_no++;
         if (line[0] == '#' || line[0] == '\n') {
@@ -240,6 +251,16 @@ static int load_priors(const char *path, replay_io_t *io)
         turns -= floor(turns);
         io->prior[s].theta = (fx_bam32_t)(uint64_t)llround(turns * 4294967296.0);
         io->has_prior[s] = 1u;
+    }
+    if (rc == 0 && ferror(f)) { /* a directory opens, and fails here with EISDIR */
+        cli_file_error("error reading --prior ", path, strerror(errno != 0 ? errno : EIO));
+        rc = -1;
+    } else if (rc == 0 && io->prior_count == 0u) {
+        char why[96];
+        (void)snprintf(why, sizeof why, "no line 'i j dx dy dtheta' with j = i + %lu (--scan-step)",
+                       io->scan_step);
+        cli_file_error("no prior in ", path, why);
+        rc = -1;
     }
     (void)fclose(f);
     return rc;
@@ -303,6 +324,16 @@ static uint32_t hal_now_us(void *ctx)
     return (uint32_t)io->file.time_us;
 }
 
+/* --period's range. From 1 ms: a microsecond clock keeps it to 0.1 %, and
+ * the velocities (Q16.16 m/s, at most 32767 m/s) hold any motion of up to
+ * 32 m a scan (below, 6e-7 s gave 32768 m/s). Up to 10 s: the estimator
+ * takes any interval as one (ego.h: "A long interval is not a gap"; over
+ * 0.2 s it searches every scan instead of tracking, over 1 s it does not
+ * judge speed changes), and the times stay on its 32-bit microsecond
+ * clock for 429 scans before time_s wraps (reported). */
+#define PERIOD_MIN_S 0.001
+#define PERIOD_MAX_S 10.0
+
 static int parse_hist(const char *text, ego_hist_kind_t *kind)
 {
     static const struct {
@@ -317,6 +348,50 @@ static int parse_hist(const char *text, ego_hist_kind_t *kind)
     }
     return -1;
 }
+
+static const char help[] =
+    CLI_HELP_STREAM_INPUT
+    "options:\n"
+    "  --period S    seconds between scans of a raw stream (and with --times index),\n"
+    "                0.001 .. 10; default: the LMS's own for the first scan's values\n"
+    "                (1/75 s for 181, 1/37.5 s for 361, 1/18.75 s for 401). Any interval\n"
+    "                is estimated, none is a gap: over 0.2 s every scan is searched,\n"
+    "                not tracked (keyframe logs: their mean spacing, e.g. 2.92), over 1 s\n"
+    "                speed changes are not judged (no flag 2048)\n"
+    "  --times arrival|index  a recording's scan times: from its arrival times\n"
+    "                (default) or scan * period\n"
+    "  --baud B      the recorded line's rate, for its wire times: 9600, 19200, 38400 or\n"
+    "                500000 (default)\n"
+    "  --sweep lms|instant  when a scan's values were measured: along the LMS mirror's\n"
+    "                sweep, de-skewed with the last motion (lms, default), or all at\n"
+    "                once (instant: a simulator's stream)\n"
+    "  --mode HEX    measuring mode of the values: 00..06 or 0F (default 00; 0F for\n"
+    "                import-carmen's millimetre streams)\n"
+    "  --mount X,Y,DEG  the scanner's pose on the vehicle: m, m, deg counter-clockwise\n"
+    "                (default 0,0,0); the output is the vehicle's motion\n"
+    "  --budget none|default|U  the estimator's work per second of scan interval:\n"
+    "                default 35.62e6 units (about Cortex-M3 instructions, at least\n"
+    "                550 000 a scan: the live core's), U units, 1e5 .. 4e9, or none\n"
+    "                (unbounded, offline: every scan answered at once)\n"
+    "  --icp         plain ICP instead of the weighted registration\n"
+    "  --hist KIND   the search's histogram: AH, LAH, HAH or HTAH (default)\n"
+    "  --prior FILE  a motion prior (odometry): lines 'i j dx dy dtheta' (m, m, rad; the\n"
+    "                pose of scan j in the frame of scan i, j = i + K), as\n"
+    "                import-carmen --odometry writes them; a file without one such\n"
+    "                line is an error\n"
+    "  --pairs OUT   writes 'i j dx dy dtheta' (m, m, rad) per line's motion\n"
+    "  --tum OUT     writes the trajectory 'time x y z qx qy qz qw' (s, m, quaternion)\n"
+    "  --frames OUT  writes the binary frame per scan too (`lmsego frames OUT`)\n"
+    "  --scan-step K, --scan-offset O  stream scan s is log scan O + s K (import-carmen\n"
+    "                --stride K --offset O): --prior and --pairs count log scans\n"
+    "                (default 1 and 0)\n";
+
+static const char help_tail[] =
+    "\nstderr: lmsego: replay: scans=N lines=L predicted=P restarts=R decode_errors=D;\n"
+    "  a line more when the input ends inside a telegram (left out; a recording\n"
+    "  stopped by hand does: exit 0), when it ends during a search (its last lines claim\n"
+    "  no motion), or when time_s wrapped (after 4294.967296 s)\n"
+    CLI_HELP_EXIT_STATUS;
 
 int cmd_replay(const cli_command_t *self, int argc, char **argv)
 {
@@ -338,12 +413,13 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (cli_is_help(arg)) {
-            cli_print_command_usage(self);
+            cli_print_command_usage(self, help);
             cli_print_csv_columns(
                 "the scan's time: a raw stream's scan * period (from 0); a\n"
                 "                recording's, the mean of its beams' times since the\n"
                 "                recording's clock started, from the arrival times",
                 false);
+            (void)fputs(help_tail, stdout);
             return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
         }
         if (strcmp(arg, "--times") == 0) {
@@ -374,8 +450,9 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             i++;
         } else if (strcmp(arg, "--period") == 0) {
             double s;
-            if (value == NULL || cli_parse_double(value, &s) != 0 || s <= 0.0 || s > 10.0) {
-                return cli_usage_error(self, "invalid --period", value, "seconds, 0 < S <= 10");
+            if (value == NULL || cli_parse_double(value, &s) != 0 || s < PERIOD_MIN_S ||
+                s > PERIOD_MAX_S) {
+                return cli_usage_error(self, "invalid --period", value, "seconds, 0.001 .. 10");
             }
             config.period_us = (uint32_t)lround(s * 1e6);
             i++;
@@ -517,6 +594,11 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         return CLI_EXIT_RUNTIME;
     }
     const ego_loop_stats_t *st = ego_loop_stats(&loop);
+    const lms_framer_stats_t *framed = lms_framer_stats(&loop.framer);
+    if (st->scans == 0u) {
+        stream_frames_no_scan(self->name, shown, framed, st->decode_errors);
+        return CLI_EXIT_RUNTIME;
+    }
     (void)fprintf(stderr,
                   "lmsego: replay: scans=%lu lines=%lu predicted=%lu restarts=%lu "
                   "decode_errors=%lu\n",
@@ -529,6 +611,15 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                       "lmsego: replay: the recording ended during a search: its last %lu line(s) "
                       "claim no motion (--budget none answers every scan)\n",
                       io.recovering);
+    }
+    if (framed->truncated > 0u) {
+        /* A recording stopped by hand usually ends so: not an error. */
+        cli_file_error("replay: ", shown,
+                       "ends inside a telegram, which is left out (stats: truncated)");
+    }
+    if (io.wrapped) {
+        cli_error("replay: time_s went back to 0 after 4294.967296 s (a 32-bit microsecond "
+                  "clock); the motions are not affected");
     }
     if (io.write_failed || closed != 0) {
         cli_error("write error");

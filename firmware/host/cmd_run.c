@@ -117,6 +117,45 @@ typedef struct {
     ego_loop_config_t loop;
 } live_options_t;
 
+/* The help of run and record: their common bring-up options, then each
+ * one's own. */
+#define HELP_BRING_UP                                                                            \
+    "input:\n"                                                                                   \
+    "  a live LMS 2xx on a serial port (RS-232 / RS-422), found at any of its four rates\n"      \
+    "options:\n"                                                                                 \
+    "  --port DEV    the serial device (required), e.g. /dev/ttyUSB0\n"                         \
+    "  --baud B      the rate to stream at: 9600, 19200, 38400 or 500000 (default)\n"           \
+    "  --variant DEG,RES  scanning angle and resolution: 180,1 180,0.5 100,1 100,0.5 or\n"       \
+    "                100,0.25 (deg; default: the scanner's own)\n"                               \
+    "  --units cm|mm the unit of the values (default: the scanner's own)\n"                     \
+    "  --mode HEX    measuring mode 00..06 or 0F (default: the scanner's own)\n"                \
+    "  --partial     stream partial scans (interlaced halves; default: whole scans)\n"          \
+    "  --address A   the scanner's address, 0..127 (default 0: any)\n"                          \
+    "  --power-wait S  first wait up to S seconds, 0..120, for the power-on telegram\n"        \
+    "                (default 0: probe at once)\n"                                               \
+    "  --scans N     stop after N scans, 1..1000000000 (default: at SIGINT / SIGTERM)\n"
+
+static const char help_run[] =
+    HELP_BRING_UP
+    "  --mount X,Y,DEG  the scanner's pose on the vehicle: m, m, deg (default 0,0,0)\n"
+    "  --record FILE also writes the recording, as record does\n";
+
+static const char tail_run[] =
+    "\nstderr: the link's events (streaming, link lost), then one line of counters\n"
+    "exit status: 0 after a clean stop (signal or --scans), 1 when the port cannot be\n"
+    "  used or the scanner refuses a setting, 2 bad command line\n";
+
+static const char help_record[] =
+    HELP_BRING_UP
+    "  -o FILE       the recording to write (required)\n";
+
+static const char tail_record[] =
+    "\noutput: FILE, the line's bytes with their arrival times (the recording format of\n"
+    "  docs/session.md), which stats, scans, replay and play read\n"
+    "stderr: the link's events, then one line of counters\n"
+    "exit status: 0 after a clean stop (signal or --scans), 1 when the port or FILE\n"
+    "  cannot be used or the scanner refuses a setting, 2 bad command line\n";
+
 /* parse_options: --help was printed, nothing else to do. */
 #define PARSED_HELP (-1)
 
@@ -132,12 +171,13 @@ static int parse_options(const cli_command_t *self, int argc, char **argv, bool 
             break;
         }
         if (cli_is_help(arg)) {
-            cli_print_command_usage(self);
+            cli_print_command_usage(self, record ? help_record : help_run);
             if (!record) {
                 cli_print_csv_columns("the scan's time (the mean of its beams' times) since\n"
                                       "                run started, from its bytes' arrival",
                                       true);
             }
+            (void)fputs(record ? tail_record : tail_run, stdout);
             return cli_finish_stdout() ? PARSED_HELP : CLI_EXIT_RUNTIME;
         }
         if (strcmp(arg, "--port") == 0 && value != NULL) {

@@ -8,7 +8,8 @@
  * given by --mode, default 00), or for a special value the negative
  * lms_value_kind_t number (-1 no return, -2 dazzle, -3 overflow, -4 low
  * SNR, -5 channel error, -7 beyond max, -8 other reserved codes). Other
- * telegrams, and B0 telegrams the decoder rejects, are skipped silently.
+ * telegrams, and B0 telegrams the decoder rejects, are skipped silently;
+ * a stream without a single scan is an error (stream_frames_no_scan).
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -21,6 +22,7 @@
 typedef struct {
     uint8_t meas_mode;
     unsigned long index; /* of the next printed scan */
+    unsigned long refused; /* B0 telegrams the decoder rejected */
     lms_scan_t scan;     /* scratch for the decoder */
 } scans_print_t;
 
@@ -32,6 +34,7 @@ static int print_scan(void *ctx, const uint8_t *telegram, size_t len, uint64_t t
         return 0;
     }
     if (lms_decode_scan(telegram, len, &p->scan) != LMS_OK) {
+        p->refused++;
         return 0;
     }
     const lms_scan_t *scan = &p->scan;
@@ -54,6 +57,24 @@ static int print_scan(void *ctx, const uint8_t *telegram, size_t len, uint64_t t
     return ferror(stdout) ? 1 : 0;
 }
 
+static const char help[] =
+    CLI_HELP_STREAM_INPUT
+    "options:\n"
+    "  --mode HEX    measuring mode the values were taken in: 00..06 or 0F, one or two\n"
+    "                hex digits, optional 0x (default 00); it decides which codes are\n"
+    "                special values (import-carmen's millimetre streams: 0F)\n"
+    "\n"
+    "output: one line per B0 scan that decodes, single spaces:\n"
+    "  <index> <unit_mm> <n> <v1> ... <vn>\n"
+    "  index         counts the printed scans from 0\n"
+    "  unit_mm       1 or 10: the unit the scanner sent the values in\n"
+    "  n             values in the scan\n"
+    "  v1 .. vn      the distance in mm, or a special value: -1 no return, -2 dazzle,\n"
+    "                -3 overflow, -4 low SNR, -5 channel error, -7 beyond the maximum\n"
+    "                range, -8 another reserved code\n"
+    "other telegrams (ACK, replies) and scans that do not decode are skipped\n"
+    "\n" CLI_HELP_EXIT_STATUS;
+
 int cmd_scans(const cli_command_t *self, int argc, char **argv)
 {
     const char *path = NULL;
@@ -64,8 +85,7 @@ int cmd_scans(const cli_command_t *self, int argc, char **argv)
         if (!options_done && strcmp(arg, "--") == 0) {
             options_done = 1;
         } else if (!options_done && cli_is_help(arg)) {
-            cli_print_command_usage(self);
-            (void)puts("  --mode HEX  measuring mode of the values: 00..06 or 0F (default 00)");
+            cli_print_command_usage(self, help);
             return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
         } else if (!options_done && strcmp(arg, "--mode") == 0) {
             if (i + 1 >= argc) {
@@ -97,6 +117,11 @@ int cmd_scans(const cli_command_t *self, int argc, char **argv)
     printer.meas_mode = meas_mode;
     const int rc = stream_frames_run_path(path, &framer, print_scan, &printer);
     if (!cli_finish_stdout()) {
+        return CLI_EXIT_RUNTIME;
+    }
+    if (rc == CLI_EXIT_OK && printer.index == 0u) {
+        stream_frames_no_scan(self->name, (strcmp(path, "-") == 0) ? "<stdin>" : path,
+                              lms_framer_stats(&framer), printer.refused);
         return CLI_EXIT_RUNTIME;
     }
     return rc;

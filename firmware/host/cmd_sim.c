@@ -278,6 +278,42 @@ typedef struct {
 
 #define PARSED_HELP (-1)
 
+static const char help_sim[] =
+    "input: none, or --source STREAM\n"
+    "options:\n"
+    "  --baud B      the scanner's power-on rate: 9600 (default), 19200, 38400 or 500000\n"
+    "  --source STREAM  scans from STREAM's B0 telegrams (a raw stream or a recording),\n"
+    "                looped (default: a built-in synthetic room the scanner drives in)\n"
+    "  --faults SPEC drop=PPM,flip=PPM,insert=PPM (bytes, per million), nak=PERCENT,\n"
+    "                silence=AFTER:MS, power=AFTER, hangup=AFTER (AFTER in scans),\n"
+    "                seed=N (default: none)\n"
+    "  --rate X      time scale, 0.01 .. 100 (default 1: real time)\n"
+    "  --link PATH   a symbolic link to the pseudo-terminal (kept across hang-ups)\n"
+    "  --address A   the scanner's address, 0..127 (default 0)\n"
+    "  --units cm|mm the unit it starts in (default cm)\n"
+    "  --power-delay MS  ms from power-on to its power-on telegram, 0..120000 (default 100)\n"
+    "  --scans N     end after N streamed scans, 1..1000000000 (default: at SIGINT / SIGTERM)\n"
+    "\n"
+    "output: the first line on stdout is the device path to open (--port of run);\n"
+    "  stderr: one line of counters at the end\n"
+    "exit status: 0 after a clean end, 1 when the pseudo-terminal or STREAM cannot be\n"
+    "  used, 2 bad command line\n";
+
+static const char help_play[] =
+    CLI_HELP_STREAM_INPUT
+    "options:\n"
+    "  --pty         act as the scanner on a new pseudo-terminal (its path: the first\n"
+    "                stdout line)\n"
+    "  --link PATH   with --pty: a symbolic link to it\n"
+    "  --port DEV    or on a real serial port (exactly one of --pty and --port)\n"
+    "  --rate X      time scale, 0.01 .. 100 (default 1: the recorded timing; a raw\n"
+    "                stream at the scan rate)\n"
+    "  --loop        play it again and again (default: once)\n"
+    "\n"
+    "output: the first line on stdout is the device path; stderr: one line of counters\n"
+    "exit status: 0 when the last scan has left (or at SIGINT / SIGTERM), 1 when FILE\n"
+    "  holds no scan or the line cannot be used, 2 bad command line\n";
+
 static int parse_options(const cli_command_t *self, int argc, char **argv, bool play,
                          sim_options_t *o)
 {
@@ -285,7 +321,7 @@ static int parse_options(const cli_command_t *self, int argc, char **argv, bool 
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (cli_is_help(arg)) {
-            cli_print_command_usage(self);
+            cli_print_command_usage(self, play ? help_play : help_sim);
             return cli_finish_stdout() ? PARSED_HELP : CLI_EXIT_RUNTIME;
         }
         if (play && strcmp(arg, "--pty") == 0) {

@@ -37,6 +37,23 @@ static int count_telegram(void *ctx, const uint8_t *telegram, size_t len, uint64
     return 0;
 }
 
+static const char help[] =
+    CLI_HELP_STREAM_INPUT
+    "options: none\n"
+    "\n"
+    "output: one line of counters, single spaces:\n"
+    "  telegrams=N scans=S crc_errors=E length_errors=L bytes_skipped=B resyncs=R\n"
+    "  truncated=T acks=A naks=K bytes=X decode_errors=D\n"
+    "  telegrams     CRC-valid telegrams       scans          B0 scans that decode\n"
+    "  crc_errors    telegrams with a bad CRC  length_errors  impossible length fields\n"
+    "  bytes_skipped bytes in no telegram      resyncs        telegrams after skipped bytes\n"
+    "  truncated     telegrams cut short by the end of the input\n"
+    "  acks, naks    lone 06 and 15 bytes      bytes          bytes read\n"
+    "  decode_errors B0 telegrams that do not decode\n"
+    "a stream without telegrams is no error here: its counters say so\n"
+    "\n"
+    "exit status: 0 ok; 1 the input cannot be read or output failed; 2 bad command line\n";
+
 int cmd_stats(const cli_command_t *self, int argc, char **argv)
 {
     const char *path = NULL;
@@ -46,7 +63,7 @@ int cmd_stats(const cli_command_t *self, int argc, char **argv)
         if (!options_done && strcmp(arg, "--") == 0) {
             options_done = 1;
         } else if (!options_done && cli_is_help(arg)) {
-            cli_print_command_usage(self);
+            cli_print_command_usage(self, help);
             return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
         } else if (!options_done && arg[0] == '-' && arg[1] != '\0') {
             return cli_usage_error(self, "unknown option", arg, NULL);

@@ -19,7 +19,7 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv);
  * replay CSV; decoder counters on stderr (cmd_frames.c). */
 int cmd_frames(const cli_command_t *self, int argc, char **argv);
 
-/* lmsego import-carmen LOG -o STREAM [--odometry OUT] [--no-return M]. */
+/* lmsego import-carmen LOG -o STREAM [--odometry OUT] [--no-return M|none]. */
 int cmd_import_carmen(const cli_command_t *self, int argc, char **argv);
 
 /* lmsego run --port DEV ...: a live scanner, ego-motion CSV (cmd_run.c). */

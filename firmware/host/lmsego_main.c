@@ -7,8 +7,9 @@
  * `lmsego --version` prints "lmsego <version>" (lmsego_version.h,
  * generated from the CMake project's version).
  *
- * Exit status: 0 ok, 1 runtime error (unreadable input, write error),
- * 2 usage error (no subcommand, unknown subcommand or option).
+ * Exit status: 0 ok, 1 runtime error (unreadable input, an input without
+ * a scan, write error), 2 usage error (no subcommand, unknown subcommand
+ * or option, a value out of its range).
  */
 #include <stdio.h>
 #include <string.h>
@@ -27,7 +28,7 @@ static const cli_command_t commands[] = {
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
     {"frames", "FILE", "decode a captured stream of binary ego-motion frames to the replay CSV",
      cmd_frames},
-    {"import-carmen", "LOG -o STREAM [--odometry OUT] [--no-return M] [--stride K] [--offset O]",
+    {"import-carmen", "LOG -o STREAM [--odometry OUT] [--no-return M|none] [--stride K] [--offset O]",
      "convert a CARMEN laser log (plain or .gz) into an LMS 2xx telegram stream",
      cmd_import_carmen},
     {"run",
@@ -51,7 +52,7 @@ static const cli_command_t commands[] = {
 
 static void print_usage(void)
 {
-    (void)puts("usage: lmsego <command> [options] FILE\n"
+    (void)puts("usage: lmsego <command> [options] [FILE]\n"
                "       lmsego --help | --version | <command> --help\n"
                "\n"
                "Turns the telegram stream of a SICK LMS 2xx into ego-motion: from a\n"
@@ -68,7 +69,8 @@ static void print_usage(void)
                "  -h, --help               show this help and exit\n"
                "      --version            print the version and exit\n"
                "\n"
-               "exit status: 0 ok, 1 runtime error (e.g. unreadable file), 2 usage error");
+               "exit status: 0 ok, 1 runtime error (e.g. an unreadable file, or one without a\n"
+               "scan), 2 usage error; `lmsego <command> --help` says each command's own");
 }
 
 static const cli_command_t *find_command(const char *name)

@@ -1,6 +1,7 @@
 /* stream_frames.c - see stream_frames.h. */
 #include "stream_frames.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
@@ -101,6 +102,26 @@ void stream_frames_read_error(const stream_file_t *in, const char *shown)
     char why[128];
     cli_file_error((in->bad != NULL) ? "bad recording " : "error reading ", shown,
                    stream_file_problem(in, why, sizeof why));
+}
+
+void stream_frames_no_scan(const char *cmd, const char *shown, const lms_framer_stats_t *st,
+                           unsigned long refused)
+{
+    char context[64];
+    char problem[160];
+    (void)snprintf(context, sizeof context, "%s: no scan in ", cmd);
+    if (st->telegrams == 0u) {
+        (void)snprintf(problem, sizeof problem, "%lu bytes, no valid LMS telegram",
+                       (unsigned long)st->bytes_in);
+    } else if (refused == 0u) {
+        (void)snprintf(problem, sizeof problem, "%lu bytes, %lu telegrams, none a scan (B0)",
+                       (unsigned long)st->bytes_in, (unsigned long)st->telegrams);
+    } else {
+        (void)snprintf(problem, sizeof problem,
+                       "%lu bytes, %lu telegrams, %lu scans (B0) that do not decode",
+                       (unsigned long)st->bytes_in, (unsigned long)st->telegrams, refused);
+    }
+    cli_file_error(context, shown, problem);
 }
 
 int stream_frames_run_path(const char *path, lms_framer_t *framer, stream_telegram_fn on_telegram,

@@ -47,4 +47,13 @@ int stream_frames_run_path(const char *path, lms_framer_t *framer, stream_telegr
  * "error reading 'FILE': <errno text>". shown is the name to print. */
 void stream_frames_read_error(const stream_file_t *in, const char *shown);
 
+/* The one-line message for a stream read to its end without a single
+ * scan: "<cmd>: no scan in 'FILE': N bytes, no valid LMS telegram" (an
+ * empty file, noise, zeros), or how many telegrams there were and how many
+ * B0 telegrams were refused (refused). The commands that exist to print
+ * scans or their motion exit CLI_EXIT_RUNTIME after it: an empty output
+ * with exit 0 would look like success. */
+void stream_frames_no_scan(const char *cmd, const char *shown, const lms_framer_stats_t *st,
+                           unsigned long refused);
+
 #endif /* LMSEGO_STREAM_FRAMES_H */
