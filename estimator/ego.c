@@ -1336,7 +1336,7 @@ typedef enum { TRACK_FOUND, TRACK_UNFINISHED, TRACK_FAILED } track_outcome_t;
 /* What becomes of a start's run that the scan's budget ends: it goes on in
  * the next scan's (the search's first stage), also when it was cut at the
  * end of a coarse pass (the last start), or it is dropped (a trial). */
-typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW } start_kind_t;
+typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW, START_PRIOR } start_kind_t;
 
 /* The first reach of a trusted prediction's first tracking (START_NARROW,
  * a trial): a vehicle's motion changes by centimetres a scan, while a car
@@ -1344,6 +1344,35 @@ typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW } start_kind
  * the usual 0.3 m first reach let such cars pull the fit onto them (a busy
  * road at 3 cm of noise stood still for 3.5 s). */
 #define NARROW_RADIUS FX_Q16_16_C(0.1)
+
+/* The first reach of a prior's first tracking (START_PRIOR, a trial):
+ * odometry's error, up to a tenth of the distance (a wheel slipping, a
+ * tyre's radius), twice over, and no less than PRIOR_REACH_MIN. Behind a
+ * platoon of trucks at our speed (issue 17) the trucks are a scan's
+ * motion off the prior, and standing still fits more points than the
+ * street: reached narrowly, the static world is kept apart from them. A
+ * prior that needs more than NARROW_RADIUS (over half a metre) is tracked
+ * with the usual reach (one 0.6 m short, tracked narrowly first, cost the
+ * budget the along start then needed). */
+#define PRIOR_REACH_MIN FX_Q16_16_C(0.03)
+
+/* Is pose within reach of start (translation). */
+static bool within_reach(const ego_pose_t *pose, const ego_pose_t *start, fx_q16_16_t reach)
+{
+    const int64_t dx = (int64_t)pose->x - start->x;
+    const int64_t dy = (int64_t)pose->y - start->y;
+    return dx * dx + dy * dy <= (int64_t)reach * reach;
+}
+
+/* The reach of a prior, or 0 when it needs more than NARROW_RADIUS. */
+static fx_q16_16_t prior_reach(const ego_pose_t *prior)
+{
+    const uint64_t sq = (uint64_t)((int64_t)prior->x * prior->x + (int64_t)prior->y * prior->y);
+    const int64_t reach = (int64_t)fx_sqrt_u64(sq) / 5; /* Q16.16 m */
+    return (reach > NARROW_RADIUS)     ? 0
+           : (reach < PRIOR_REACH_MIN) ? PRIOR_REACH_MIN
+                                       : (fx_q16_16_t)reach;
+}
 
 /* The registration an earlier start of the scan converged to, fitting
  * loosely (half the accept share over both groups, not along a corridor). */
@@ -1366,6 +1395,8 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
                     &params->track);
     if (kind == START_NARROW) {
         ego_track_narrow(&state->tracking, NARROW_RADIUS);
+    } else if (kind == START_PRIOR) {
+        ego_track_narrow(&state->tracking, prior_reach(start));
     }
     if (state->weak) {
         ego_track_hold_weak(&state->tracking);
@@ -1374,10 +1405,15 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     STAGE(EGO_STAGE_OTHER);
     state->unfinished_predicted = *predicted;
     if (!done) {
-        return (kind == START_TRIAL || kind == START_NARROW) ? TRACK_FAILED : TRACK_UNFINISHED;
+        return (kind == START_TRIAL || kind == START_NARROW || kind == START_PRIOR)
+                   ? TRACK_FAILED
+                   : TRACK_UNFINISHED;
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
+    if (kind == START_PRIOR && !within_reach(&r.pose, start, 2 * prior_reach(start))) {
+        return TRACK_FAILED; /* pulled out of the prior's reach: onto the trucks */
+    }
     /* Two starts of the scan that converge to one pose, each fitting
      * loosely, agree: the light search's rule for its coarse passes (the
      * second may be cut by the budget on its way back). */
@@ -1537,12 +1573,13 @@ static track_outcome_t answer_if_along_confirms(const ego_state_t *state,
  * caller's may_track): over a long interval (keyframes) a prediction can
  * be metres off, and a local registration from it can settle in a wrong
  * minimum that fits well; the search is safer. Without a prediction
- * tracking starts from no motion. */
+ * tracking starts from no motion. narrow: the prediction's first tracking
+ * is narrow (START_NARROW, a prior's START_PRIOR), or not (START_GOES_ON). */
 #define PROBE FX_Q16_16_C(0.25) /* within tracking's 0.3 m, beyond its trust 0.1 m */
 
 static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                                          const ego_pose_t *predicted, bool have_prediction,
-                                         bool after_search, bool narrow, uint32_t dt,
+                                         bool after_search, start_kind_t narrow, uint32_t dt,
                                          bool *from_along, ego_output_t *out)
 {
     *from_along = false;
@@ -1555,8 +1592,11 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
      * it after tracking from no motion, and its search took 7 scans), and
      * after a corridor, where the speed is the one from before it (or the
      * entry's): at its exit it can be a fifth off, beyond tracking's
-     * reach. A standstill's best shift is no shift: no start. */
-    const bool along_first = !have_prediction || state->along_predicted;
+     * reach (not where a prior gives the speed: behind a platoon the
+     * projections' shift is the trucks'). A standstill's best shift is no
+     * shift: no start. */
+    const bool along_first =
+        !have_prediction || (state->along_predicted && narrow != START_PRIOR);
     const along_t first =
         along_first ? along_start(state, params, cur, predicted, have_prediction, &along) : ALONG_NONE;
     if (first == ALONG_SHIFTED) {
@@ -1568,9 +1608,9 @@ static track_outcome_t track_from_starts(ego_state_t *state, const ego_params_t 
         tracked = answer_if_along_confirms(state, params, predicted, first, &along, &loose,
                                            from_along, out);
     }
-    if (tracked == TRACK_FAILED && narrow) {
-        tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
-                        START_NARROW, &loose, out);
+    if (tracked == TRACK_FAILED && narrow != START_GOES_ON) {
+        tracked = track(state, params, cur, predicted, predicted, have_prediction, dt, narrow,
+                        &loose, out);
     }
     if (tracked == TRACK_FAILED) {
         tracked = track(state, params, cur, predicted, predicted, have_prediction, dt,
@@ -1703,10 +1743,12 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
     const bool have_prediction =
         prior != NULL || (motion_known(state, dt) && (after_search || state->predictable));
     const bool may_track = dt <= TRACK_INTERVAL_US || after_search;
-    /* A motion that predicts within a vehicle's reach (not a prior, whose
-     * odometry may be off by decimetres; not after a search or a suspect
-     * change) is tracked with the narrow first reach first. */
-    const bool narrow = prior == NULL && have_prediction && !after_search && !state->suspect;
+    /* A motion that predicts within a vehicle's reach (not after a search
+     * or a suspect change) is tracked with the narrow first reach first; a
+     * prior to its error (START_PRIOR), when that is within the narrow
+     * reach. */
+    const bool narrow = have_prediction && !after_search && !state->suspect &&
+                        (prior == NULL || prior_reach(prior) != 0);
     /* The last scan's points lead its time when it kept one pass at a cold
      * start (and the current one's, likewise): the registration spans
      * dt + lead_last - lead_current, its motion scaled back to dt (at 30
@@ -1725,7 +1767,11 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
     bool from_along = false;
     const track_outcome_t tracked =
         may_track ? track_from_starts(state, params, cur, &track_predicted, have_prediction,
-                                      after_search, narrow, dt, &from_along, out)
+                                      after_search,
+                                      !narrow              ? START_GOES_ON
+                                      : (prior != NULL) ? START_PRIOR
+                                                           : START_NARROW,
+                                      dt, &from_along, out)
                   : TRACK_FAILED;
     if (tracked == TRACK_FOUND) {
         out->pose = scale_motion(&out->pose, span, dt);
