@@ -325,12 +325,16 @@ ego_status_t ego_process(ego_state_t *state, const ego_params_t *params, const e
 
 /* The same with an optional motion prior for this scan (for example wheel
  * odometry: the pose of this scan in the frame of the last one), or NULL.
- * A prior replaces the prediction from the last motion: its rotation is
- * tried first among the rotation candidates and its translation centres
- * the searches. It is only a starting point: the histogram's candidates
- * are still tried, and the candidate with the most inliers wins, so a bad
- * prior cannot override a good match. When matching fails, the output is
- * the prior (flag EGO_FLAG_PREDICTED). */
+ * A prior replaces the prediction from the last motion: tracking starts
+ * from it within its own error first (twice a tenth of its length, at
+ * least 3 cm; a prior over half a metre starts with the usual reach), so
+ * that vehicles moving with us, a scan's motion off it, stay out of the
+ * fit (a platoon ahead at our speed: docs/estimator.md, "A motion
+ * prior"); its rotation is tried first among the rotation candidates and
+ * its translation centres the searches. Where tracking from it fails, the
+ * histogram's candidates are tried and the one with the most inliers
+ * wins, so a bad prior cannot override a good match. When matching fails,
+ * the output is the prior (flag EGO_FLAG_PREDICTED). */
 ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *params,
                                     const ego_range_scan_t *scan, uint32_t time_us,
                                     const ego_pose_t *prior, ego_output_t *out);
