@@ -13,6 +13,11 @@
  * (see place_faults) and predicts the framer's counters with the
  * contract model in framer_model.c.
  *
+ * With --adversarial it writes issue 15's hard scans instead of the room,
+ * a few of each kind in one stream; with --case NAME one of those kinds
+ * alone, --scans of it (issue 18: a stream per case, each starting the
+ * estimator afresh; host_tests/data/recordings/adversarial/).
+ *
  * Ground-truth outputs, written from the generator's own values (not by
  * decoding what it wrote):
  *   --truth FILE         the exact `lmsego scans FILE` output
@@ -139,6 +144,33 @@ enum {
     ADVERSARIAL_KINDS
 };
 #define ADVERSARIAL_SCANS 8u
+#define CASE_DEFAULT_SCANS 30u
+
+/* --case NAME: the kind's name on the command line, in enum order. */
+static const char *const adversarial_names[ADVERSARIAL_KINDS] = {
+    "invalid",      "one-point", "two-points", "collinear", "one-range",
+    "zigzag-limit", "all-max",   "specials",   "repeated",  "alternating"};
+
+/* Every code of measuring mode 00 that is not a range (lms2xx-protocol.md
+ * section 4.3: 0x1FF7 and above), with the number `lmsego scans` prints
+ * for it (lms_value_kind_t): --case specials cycles through all nine. */
+typedef struct {
+    uint16_t word;
+    long truth;
+} special_code_t;
+
+static const special_code_t special_codes[] = {
+    {0x1FF7u, -7}, /* beyond the maximum range */
+    {0x1FF8u, -8}, /* reserved */
+    {0x1FF9u, -8}, /* reserved */
+    {0x1FFAu, -5}, /* error reading channel 1 */
+    {0x1FFBu, -4}, /* signal-to-noise ratio too small */
+    {0x1FFCu, -8}, /* reserved */
+    {0x1FFDu, -3}, /* operation overflow */
+    {0x1FFEu, -2}, /* dazzle */
+    {0x1FFFu, -1}  /* no return */
+};
+#define SPECIAL_CODES (sizeof special_codes / sizeof special_codes[0])
 
 /* ------------------------------------------------------------------ */
 /* Options. */
@@ -150,6 +182,7 @@ typedef struct {
     lms_unit_t unit;
     bool faults;
     bool adversarial; /* issue 15's hard scans instead of the room */
+    int one_case;     /* --case: that kind alone (0..ADVERSARIAL_KINDS-1), else -1 */
     bool verbose;
     const char *out_path;
     const char *truth_path;
@@ -160,7 +193,8 @@ static void print_usage(FILE *to)
 {
     (void)fputs(
         "usage: lmsgen [--seed N] [--scans N] [--values 181|361|401] [--unit mm|cm]\n"
-        "              [--faults] [--verbose] -o FILE [--truth FILE] [--expect-stats FILE]\n"
+        "              [--faults | --adversarial | --case NAME] [--verbose]\n"
+        "              -o FILE [--truth FILE] [--expect-stats FILE]\n"
         "Writes a synthetic LMS 2xx scanner->host recording: 06, A0 reply, B0 stream.\n"
         "  --seed N            xorshift seed (default 1)\n"
         "  --scans N           B0 telegrams to write (default 200)\n"
@@ -196,11 +230,13 @@ static int parse_options(int argc, char **argv, gen_options_t *o)
     o->unit = LMS_UNIT_MM;
     o->faults = false;
     o->adversarial = false;
+    o->one_case = -1;
     o->verbose = false;
     o->out_path = NULL;
     o->truth_path = NULL;
     o->stats_path = NULL;
 
+    bool scans_given = false;
     for (int i = 1; i < argc; i++) {
         const char *opt = argv[i];
         if (strcmp(opt, "-h") == 0 || strcmp(opt, "--help") == 0) {
@@ -234,6 +270,17 @@ static int parse_options(int argc, char **argv, gen_options_t *o)
                 return usage_error("bad --scans (1..100000)", val);
             }
             o->scans = (unsigned)number;
+            scans_given = true;
+        } else if (strcmp(opt, "--case") == 0) {
+            o->one_case = -1;
+            for (unsigned k = 0u; k < (unsigned)ADVERSARIAL_KINDS; k++) {
+                if (strcmp(val, adversarial_names[k]) == 0) {
+                    o->one_case = (int)k;
+                }
+            }
+            if (o->one_case < 0) {
+                return usage_error("bad --case (see --help)", val);
+            }
         } else if (strcmp(opt, "--values") == 0) {
             if (!parse_unsigned(val, 1000u, &number) ||
                 (number != 181u && number != 361u && number != 401u)) {
@@ -267,8 +314,14 @@ static int parse_options(int argc, char **argv, gen_options_t *o)
     if (o->adversarial && o->faults) {
         return usage_error("--adversarial and --faults do not mix", NULL);
     }
+    if (o->one_case >= 0 && (o->faults || o->adversarial)) {
+        return usage_error("--case mixes with neither --faults nor --adversarial", NULL);
+    }
     if (o->adversarial) {
         o->scans = ADVERSARIAL_KINDS * ADVERSARIAL_SCANS;
+    }
+    if (o->one_case >= 0 && !scans_given) {
+        o->scans = CASE_DEFAULT_SCANS;
     }
     return -1;
 }
@@ -362,10 +415,12 @@ static void put_word(gen_scan_t *out, unsigned i, uint16_t word, long truth)
     out->truth[i] = truth;
 }
 
-static void make_adversarial(unsigned k, const layout_t *layout, lms_unit_t unit,
-                             gen_scan_t *out)
+/* Scan k of the hard case kind. every_code: the special values cycle
+ * through all nine codes, one beam further each scan (--case); else
+ * through no return, dazzle and beyond max (--adversarial, as shipped). */
+static void make_adversarial(unsigned kind, unsigned k, bool every_code, const layout_t *layout,
+                             lms_unit_t unit, gen_scan_t *out)
 {
-    const unsigned kind = k / ADVERSARIAL_SCANS;
     const unsigned n = layout->count;
     const double unit_mm = (unit == LMS_UNIT_MM) ? 1.0 : 10.0;
     const double max_mm = (double)WORD_MAX_RANGE * unit_mm;
@@ -411,7 +466,10 @@ static void make_adversarial(unsigned k, const layout_t *layout, lms_unit_t unit
             put_range(out, i, max_mm, unit);
             break;
         case ADV_SPECIALS:
-            if (i % 3u == 0u) {
+            if (every_code) {
+                const special_code_t *c = &special_codes[(i + k) % SPECIAL_CODES];
+                put_word(out, i, c->word, c->truth);
+            } else if (i % 3u == 0u) {
                 put_word(out, i, WORD_NO_RETURN, TRUTH_NO_RETURN);
             } else if (i % 3u == 1u) {
                 put_word(out, i, WORD_DAZZLE, TRUTH_DAZZLE);
@@ -789,7 +847,9 @@ static void generate(gen_t *g, const gen_options_t *o)
                           g->stream.len - before, before, k);
         }
         if (o->adversarial) {
-            make_adversarial(k, &layout, o->unit, &scan);
+            make_adversarial(k / ADVERSARIAL_SCANS, k, false, &layout, o->unit, &scan);
+        } else if (o->one_case >= 0) {
+            make_adversarial((unsigned)o->one_case, k, true, &layout, o->unit, &scan);
         } else {
             make_scan(&scene_rng, k, &layout, o->unit, &scan);
         }

@@ -106,6 +106,17 @@ foreach(rec room_181_mm room_361_cm_faults)
                 -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans -DEXPECT_STDERR_EMPTY=ON)
 endforeach()
 
+# Issue 18's adversarial case streams: the decoder against lmsgen's truth (the
+# specials stream holds every code of 0x1FF7..0x1FFF: -1..-5, -7, -8).
+foreach(case invalid one_point two_points collinear one_range zigzag_limit all_max
+        specials repeated alternating)
+    set(rec ${LMSEGO_RECORDINGS}/adversarial/adv_${case}_181_cm)
+    lmsego_cli_test(adv_${case}_181_cm_stats ARGS stats ${rec}.lms
+        OPTIONS -DEXPECT_STDOUT_FILE=${rec}.stats -DEXPECT_STDERR_EMPTY=ON)
+    lmsego_cli_test(adv_${case}_181_cm_scans ARGS scans ${rec}.lms
+        OPTIONS -DEXPECT_STDOUT_FILE=${rec}.scans -DEXPECT_STDERR_EMPTY=ON)
+endforeach()
+
 # --- replay ----------------------------------------------------------------
 set(LMSEGO_SEQ ${LMSEGO_CLI_DATA}/../../../host_tests/data/sequences)
 lmsego_cli_test(replay_help ARGS replay --help
