@@ -1031,6 +1031,11 @@ static void judge_dynamics(ego_state_t *state, bool matched, uint32_t time_us, e
         out->flags |= state->suspect ? EGO_FLAG_SUSPECT : 0u;
         return;
     }
+    const int64_t speed_sq = (int64_t)out->vx * out->vx + (int64_t)out->vy * out->vy;
+    if (speed_sq > (int64_t)EGO_MAX_SPEED * EGO_MAX_SPEED) {
+        out->flags |= EGO_FLAG_SUSPECT; /* no vehicle's: not taken in */
+        return;
+    }
     if (!state->have_reference) {
         ref->vx = out->vx;
         ref->vy = out->vy;

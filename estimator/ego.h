@@ -105,9 +105,10 @@
                                              beyond the gate of the dynamics filter (a
                                              vehicle's acceleration, ego_config.h) and no
                                              measured line has come back within it since,
-                                             or a search's answer fits under half the
-                                             scan (under 0.7 with a turn no histogram
-                                             proposed) */
+                                             or it is faster than any vehicle
+                                             (EGO_MAX_SPEED), or a search's answer fits
+                                             under half the scan (under 0.7 with a turn
+                                             no histogram proposed) */
 
 typedef struct {
     ego_prep_params_t prep;

@@ -33,6 +33,16 @@
 #define EGO_MAX_ACCELERATION (15 * 65536)
 #endif
 
+/* ... and how fast it can go: a line faster than this is not the
+ * vehicle's motion (EGO_FLAG_SUSPECT, and the dynamics filter does not
+ * take it). 150 m/s, Q16.16: over any road vehicle, and over the fast
+ * synthetic world's 112 m/s (docs/synthetic-worlds.md); a room taken for
+ * its mirror image 4 m away in 13 ms is 300 m/s (docs/testing.md,
+ * "Adversarial streams"). */
+#ifndef EGO_MAX_SPEED
+#define EGO_MAX_SPEED (150 * 65536)
+#endif
+
 _Static_assert(EGO_MAX_BEAMS >= 16u, "a scan needs some beams");
 _Static_assert(EGO_MAX_BEAMS <= 16384u, "16-bit indices, and ITCP's sums of 2^48 products below 2^62");
 

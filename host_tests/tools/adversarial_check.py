@@ -81,16 +81,7 @@ ZERO_DEG = 0.05    # ... and 0.05 deg
 
 # Open findings: (case, budget) -> {scan: what the line does}. Measured
 # 2026-12-03 (docs/testing.md, "Adversarial streams").
-KNOWN = {
-    ('alternating', 'default'): {
-        11: 'RECOVERED (128) alone: the search claims 4.0 m sideways from scan 0 to 1, '
-            'the mirror image matched as the room 4 m to the left',
-        13: 'flags 0: 4.0 m sideways in 13 ms (300 m/s), no SUSPECT',
-    },
-    ('alternating', 'none'): {
-        1: 'flags 0: 4.0 m sideways in 13 ms, the first pair (no dynamics reference)',
-    },
-}
+KNOWN = {}  # none open (the alternating case's three: EGO_MAX_SPEED, docs/testing.md)
 
 
 def check_issue15(rows):
