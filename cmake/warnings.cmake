@@ -12,6 +12,12 @@ set(LMSEGO_WARNING_FLAGS
     -Wcast-qual -Wpointer-arith -Wundef -Wvla -Wwrite-strings
     -Wformat=2
 )
+# gcc's static analyzer (issue 18): its findings are warnings too. Slow (about
+# half a minute of CPU for the shipped code): CI builds only the shipped
+# targets with it (.ci/run, preset analyzer), not the tests.
+if(LMSEGO_ANALYZER)
+    list(APPEND LMSEGO_WARNING_FLAGS -fanalyzer)
+endif()
 if(LMSEGO_WERROR)
     list(APPEND LMSEGO_WARNING_FLAGS -Werror)
 endif()

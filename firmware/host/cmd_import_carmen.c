@@ -310,6 +310,9 @@ static int import(const import_args_t *a)
         if (out != NULL) {
             (void)fclose(out);
         }
+        if (odom != NULL) {
+            (void)fclose(odom); /* the output failed, the odometry's did not */
+        }
         (void)gzclose(in);
         return CLI_EXIT_RUNTIME;
     }
