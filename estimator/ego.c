@@ -1031,8 +1031,10 @@ static void judge_dynamics(ego_state_t *state, bool matched, uint32_t time_us, e
         out->flags |= state->suspect ? EGO_FLAG_SUSPECT : 0u;
         return;
     }
-    const int64_t speed_sq = (int64_t)out->vx * out->vx + (int64_t)out->vy * out->vy;
-    if (speed_sq > (int64_t)EGO_MAX_SPEED * EGO_MAX_SPEED) {
+    /* Each square below 2^62, their sum below 2^63. */
+    const uint64_t speed_sq = (uint64_t)((int64_t)out->vx * out->vx) +
+                              (uint64_t)((int64_t)out->vy * out->vy);
+    if (speed_sq > (uint64_t)EGO_MAX_SPEED * EGO_MAX_SPEED) {
         out->flags |= EGO_FLAG_SUSPECT; /* no vehicle's: not taken in */
         return;
     }
@@ -1364,15 +1366,20 @@ typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW, START_PRIOR
 /* Is pose within reach of start (translation). */
 static bool within_reach(const ego_pose_t *pose, const ego_pose_t *start, fx_q16_16_t reach)
 {
-    const int64_t dx = (int64_t)pose->x - start->x;
+    const int64_t dx = (int64_t)pose->x - start->x; /* below 2^32 */
     const int64_t dy = (int64_t)pose->y - start->y;
+    if (dx > reach || -dx > reach || dy > reach || -dy > reach) {
+        return false; /* and the squares below stay below 2^62 */
+    }
     return dx * dx + dy * dy <= (int64_t)reach * reach;
 }
 
 /* The reach of a prior, or 0 when it needs more than NARROW_RADIUS. */
 static fx_q16_16_t prior_reach(const ego_pose_t *prior)
 {
-    const uint64_t sq = (uint64_t)((int64_t)prior->x * prior->x + (int64_t)prior->y * prior->y);
+    /* Each square below 2^62, their sum below 2^63. */
+    const uint64_t sq = (uint64_t)((int64_t)prior->x * prior->x) +
+                        (uint64_t)((int64_t)prior->y * prior->y);
     const int64_t reach = (int64_t)fx_sqrt_u64(sq) / 5; /* Q16.16 m */
     return (reach > NARROW_RADIUS)     ? 0
            : (reach < PRIOR_REACH_MIN) ? PRIOR_REACH_MIN
