@@ -86,7 +86,8 @@ static bool near_surface(const obj_frame_t *f, double wx, double wy)
         double ax;
         double ay;
         beam_point(f, (uint32_t)j, &ax, &ay);
-        if (hypot(x - ax, y - ay) <= OBJ_NEAR_M) {
+        const double near = fmax(OBJ_NEAR_M, f->bearing_step * range);
+        if (hypot(x - ax, y - ay) <= near) {
             return true;
         }
         if (j + 1 < (long)f->count && f->range[j + 1] > 0.0) {
@@ -95,7 +96,7 @@ static bool near_surface(const obj_frame_t *f, double wx, double wy)
             beam_point(f, (uint32_t)(j + 1), &bx, &by);
             const double gap = SURFACE_GAP_M + 3.0 * f->bearing_step * f->range[j];
             if (hypot(bx - ax, by - ay) <= gap &&
-                segment_distance(x, y, ax, ay, bx, by) <= OBJ_NEAR_M) {
+                segment_distance(x, y, ax, ay, bx, by) <= near) {
                 return true;
             }
         }
@@ -161,9 +162,10 @@ static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k)
     return false;
 }
 
-/* Least-squares slope of a track's centres since t0; false when they span
- * less than OBJ_VEL_MIN_S. */
-static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double *vy)
+/* Least-squares slope of a series of a track (xs, ys) since t0; false
+ * when the sightings span less than OBJ_VEL_MIN_S. */
+static bool series_slope(const obj_track_t *tr, const double *xs, const double *ys, double t0,
+                         double *vx, double *vy)
 {
     double n = 0.0;
     double st = 0.0;
@@ -181,8 +183,8 @@ static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double 
         last = tr->t[i];
         n += 1.0;
         st += tr->t[i];
-        sx += tr->x[i];
-        sy += tr->y[i];
+        sx += xs[i];
+        sy += ys[i];
     }
     if (n < 2.0 || last - first < OBJ_VEL_MIN_S) {
         return false;
@@ -199,12 +201,40 @@ static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double 
         }
         const double d = tr->t[i] - tm;
         stt += d * d;
-        stx += d * (tr->x[i] - xm);
-        sty += d * (tr->y[i] - ym);
+        stx += d * (xs[i] - xm);
+        sty += d * (ys[i] - ym);
     }
     *vx = stx / stt;
     *vy = sty / stt;
     return true;
+}
+
+/* A track's velocity since t0 (objects.h: its silhouette ends when they
+ * stay uncut, else its centre); false when unknown. */
+static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double *vy)
+{
+    double sum_x = 0.0;
+    double sum_y = 0.0;
+    int ends = 0;
+    for (int e = 0; e < 2; e++) {
+        bool ok = true;
+        for (uint32_t i = 0u; i < tr->n; i++) {
+            ok = ok && (tr->t[i] < t0 || tr->ok[e][i]);
+        }
+        double ex;
+        double ey;
+        if (ok && series_slope(tr, tr->ex[e], tr->ey[e], t0, &ex, &ey)) {
+            sum_x += ex;
+            sum_y += ey;
+            ends++;
+        }
+    }
+    if (ends > 0) {
+        *vx = sum_x / ends;
+        *vy = sum_y / ends;
+        return true;
+    }
+    return series_slope(tr, tr->x, tr->y, t0, vx, vy);
 }
 
 /* Where a track is expected at time ts (world frame). */
@@ -223,17 +253,28 @@ static void track_predict(const obj_track_t *tr, double ts, double *x, double *y
     *y = tr->y[last] + vy * (ts - tr->t[last]);
 }
 
-static void track_add(obj_track_t *tr, double ts, double x, double y)
+static void track_add(obj_track_t *tr, double ts, double x, double y, const obj_object_t *o)
 {
     if (tr->n == OBJ_TRACK_POINTS) {
-        memmove(&tr->t[0], &tr->t[1], (OBJ_TRACK_POINTS - 1u) * sizeof tr->t[0]);
-        memmove(&tr->x[0], &tr->x[1], (OBJ_TRACK_POINTS - 1u) * sizeof tr->x[0]);
-        memmove(&tr->y[0], &tr->y[1], (OBJ_TRACK_POINTS - 1u) * sizeof tr->y[0]);
+        const size_t keep = OBJ_TRACK_POINTS - 1u;
+        memmove(&tr->t[0], &tr->t[1], keep * sizeof tr->t[0]);
+        memmove(&tr->x[0], &tr->x[1], keep * sizeof tr->x[0]);
+        memmove(&tr->y[0], &tr->y[1], keep * sizeof tr->y[0]);
+        for (int e = 0; e < 2; e++) {
+            memmove(&tr->ex[e][0], &tr->ex[e][1], keep * sizeof tr->ex[e][0]);
+            memmove(&tr->ey[e][0], &tr->ey[e][1], keep * sizeof tr->ey[e][0]);
+            memmove(&tr->ok[e][0], &tr->ok[e][1], keep * sizeof tr->ok[e][0]);
+        }
         tr->n--;
     }
     tr->t[tr->n] = ts;
     tr->x[tr->n] = x;
     tr->y[tr->n] = y;
+    for (int e = 0; e < 2; e++) {
+        tr->ex[e][tr->n] = o->end[e][0];
+        tr->ey[e][tr->n] = o->end[e][1];
+        tr->ok[e][tr->n] = o->end_ok[e];
+    }
     tr->n++;
 }
 
@@ -338,10 +379,24 @@ static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref, obj_
             moving += evidence(cur, ref, end) ? 1u : 0u;
         }
         const uint32_t n = end - k + 1u;
-        if (n >= OBJ_MIN_POINTS && moving >= 2u && (double)moving >= OBJ_EVIDENCE_SHARE * n) {
+        if (n >= OBJ_MIN_POINTS && moving >= 2u &&
+            ((double)moving >= OBJ_EVIDENCE_SHARE * n || moving >= OBJ_EVIDENCE_MIN)) {
             obj_object_t o;
             memset(&o, 0, sizeof o);
             cluster_box(cur, k, end, &o);
+            const uint32_t ends[2] = {k, end};
+            for (int e = 0; e < 2; e++) {
+                double x;
+                double y;
+                beam_point(cur, ends[e], &x, &y);
+                to_world(cur, x, y, &o.end[e][0], &o.end[e][1]);
+                /* The neighbour beyond the end: out of the field, or a
+                 * return in front of it, cuts the body. */
+                const long beyond = (e == 0) ? (long)k - 1 : (long)end + 1;
+                o.end_ok[e] = beyond >= 0 && beyond < (long)cur->count &&
+                              (cur->range[beyond] <= 0.0 ||
+                               cur->range[beyond] > cur->range[ends[e]] + OBJ_GAP_M);
+            }
             if (o.length <= OBJ_MAX_EXTENT_M) {
                 out[found++] = o;
             }
@@ -431,14 +486,14 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     for (size_t i = 0u; i < n; i++) {
         if (track_of[i] >= 0) {
             obj_track_t *tr = &t->tracks[track_of[i]];
-            track_add(tr, time_s, wx[i], wy[i]);
+            track_add(tr, time_s, wx[i], wy[i], &found[i]);
             tr->hits++;
         } else if (t->tracks_used < OBJ_MAX_TRACKS) {
             obj_track_t *tr = &t->tracks[t->tracks_used++];
             memset(tr, 0, sizeof *tr);
             tr->id = t->next_id++;
             tr->hits = 1u;
-            track_add(tr, time_s, wx[i], wy[i]);
+            track_add(tr, time_s, wx[i], wy[i], &found[i]);
             track_of[i] = (int)(t->tracks_used - 1u);
         }
     }

@@ -10,9 +10,11 @@
  * range noise; over 0.2 s a pedestrian walks 0.28 m, a car 1-4 m.
  *
  * A current point (within OBJ_MAX_RANGE_M) is evidence of motion when no
- * surface of the reference scan lies within OBJ_NEAR_M of it (the
- * reference's points and the segments between neighbouring beams that
- * are not a depth jump) and either
+ * surface of the reference scan lies within OBJ_NEAR_M, or one beam
+ * spacing at its range if more (0.52 m at 30 m at 1 deg: a far surface's
+ * points land that far apart from scan to scan), of it (the reference's
+ * points and the segments between neighbouring beams that are not a
+ * depth jump) and either
  *   - entered: the reference beams on both sides of its bearing reached
  *     more than OBJ_FREE_MARGIN_M beyond it (it stands where the sensor
  *     saw free space: a static surface newly revealed lies behind the old
@@ -24,8 +26,9 @@
  * The scan is cut into segments (neighbouring beams with ranges no more
  * than OBJ_GAP_M apart); a segment of at least OBJ_MIN_POINTS points,
  * no longer than OBJ_MAX_EXTENT_M (walls are longer), with at least two
- * evidence points and at least OBJ_EVIDENCE_SHARE of its points evidence,
- * is a moving cluster. Its centre is the centre of the bounding box of
+ * evidence points and at least OBJ_EVIDENCE_SHARE of its points evidence
+ * (or OBJ_EVIDENCE_MIN: a long side sliding along itself gives evidence
+ * only at its front), is a moving cluster. Its centre is the centre of the bounding box of
  * its points along their principal axes, and its length and width that
  * box's sides (only the visible sides: a car seen from behind is as long
  * as the part of its side the beams reach).
@@ -33,11 +36,17 @@
  * Tracks: each cluster is associated with the nearest predicted track
  * (constant velocity in the world frame) within OBJ_GATE_M, greedily by
  * distance; an unmatched cluster starts a track with a new id. A track
- * is reported from its OBJ_CONFIRM-th cluster on; its velocity is the
- * least-squares slope of its centres over the last OBJ_VEL_WINDOW_S
- * (at least OBJ_VEL_MIN_S of them, else unknown: NaN), turned into the
- * current vehicle frame: the velocity over ground, as lmsworld's truth
- * gives it. A track not seen for OBJ_MAX_MISSES scans is dropped.
+ * is reported from its OBJ_CONFIRM-th cluster on; its velocity is a
+ * least-squares slope over the last OBJ_VEL_WINDOW_S (at least
+ * OBJ_VEL_MIN_S of sightings, else unknown: NaN), turned into the current
+ * vehicle frame: the velocity over ground, as lmsworld's truth gives it.
+ * The slope is that of the cluster's ends where they are the body's own
+ * silhouette (the extreme bearings of a convex body are its corners, which
+ * move with it) throughout the window: the mean of both ends' slopes, or
+ * the one end's; else of the box centre. (The centre of the visible part
+ * slides when the field of view or an occluder cuts the body: a truck
+ * overtaking alongside grows into view at the edge of the field.) A track
+ * not seen for OBJ_MAX_MISSES scans is dropped.
  *
  * Memory: static, in obj_tracker_t (about 0.5 MB: OBJ_HISTORY scans of
  * OBJ_MAX_BEAMS ranges, OBJ_MAX_TRACKS tracks); at most OBJ_MAX_OBJECTS
@@ -56,7 +65,7 @@
 #define OBJ_TRACK_POINTS 32u
 
 #define OBJ_REF_S 0.2
-#define OBJ_MAX_RANGE_M 40.0
+#define OBJ_MAX_RANGE_M 35.0
 #define OBJ_NEAR_M 0.2
 #define OBJ_FREE_MARGIN_M 0.3
 #define OBJ_RECEDE_M 4.0
@@ -64,6 +73,7 @@
 #define OBJ_MIN_POINTS 3u
 #define OBJ_MAX_EXTENT_M 16.0
 #define OBJ_EVIDENCE_SHARE 0.3
+#define OBJ_EVIDENCE_MIN 6u
 #define OBJ_GATE_M 2.0
 #define OBJ_CONFIRM 3u
 #define OBJ_VEL_WINDOW_S 0.3
@@ -92,6 +102,11 @@ typedef struct {
     double length, width; /* m */
     double vx, vy;        /* m/s over ground; NaN: not known yet */
     uint16_t points;
+    /* Private: the cluster's first and last points (world frame) and
+     * whether each is the body's own silhouette edge (not cut by the
+     * field of view or by something in front). */
+    double end[2][2];
+    bool end_ok[2];
 } obj_object_t;
 
 typedef struct {
@@ -111,6 +126,9 @@ typedef struct {
     double t[OBJ_TRACK_POINTS];
     double x[OBJ_TRACK_POINTS]; /* world frame, oldest first */
     double y[OBJ_TRACK_POINTS];
+    double ex[2][OBJ_TRACK_POINTS]; /* the cluster's ends, world frame */
+    double ey[2][OBJ_TRACK_POINTS];
+    bool ok[2][OBJ_TRACK_POINTS];
 } obj_track_t;
 
 typedef struct {
