@@ -351,13 +351,14 @@ static const obj_frame_t *reference(const obj_tracker_t *t)
     return NULL;
 }
 
-/* The moving clusters of the newest frame against ref: writes up to
- * OBJ_MAX_OBJECTS into out (id and velocity not set), returns how many. */
+/* The segments of the newest frame, moving or not against ref: writes up
+ * to OBJ_MAX_SEGMENTS into out (id and velocity not set), returns how
+ * many. */
 static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref, obj_object_t *out)
 {
     size_t found = 0u;
     uint32_t k = 0u;
-    while (k < cur->count && found < OBJ_MAX_OBJECTS) {
+    while (k < cur->count && found < OBJ_MAX_SEGMENTS) {
         if (cur->range[k] <= 0.0 || cur->range[k] > OBJ_MAX_RANGE_M) {
             k++;
             continue;
@@ -379,10 +380,11 @@ static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref, obj_
             moving += evidence(cur, ref, end) ? 1u : 0u;
         }
         const uint32_t n = end - k + 1u;
-        if (n >= OBJ_MIN_POINTS && moving >= 2u &&
-            ((double)moving >= OBJ_EVIDENCE_SHARE * n || moving >= OBJ_EVIDENCE_MIN)) {
+        if (n >= OBJ_MIN_POINTS) {
             obj_object_t o;
             memset(&o, 0, sizeof o);
+            o.moving = moving >= 2u &&
+                       ((double)moving >= OBJ_EVIDENCE_SHARE * n || moving >= OBJ_EVIDENCE_MIN);
             cluster_box(cur, k, end, &o);
             const uint32_t ends[2] = {k, end};
             for (int e = 0; e < 2; e++) {
@@ -440,11 +442,11 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     if (ref == NULL) {
         return 0u;
     }
-    obj_object_t found[OBJ_MAX_OBJECTS];
+    static obj_object_t found[OBJ_MAX_SEGMENTS];
     const size_t n = find_clusters(cur, ref, found);
-    double wx[OBJ_MAX_OBJECTS];
-    double wy[OBJ_MAX_OBJECTS];
-    int track_of[OBJ_MAX_OBJECTS];
+    double wx[OBJ_MAX_SEGMENTS];
+    double wy[OBJ_MAX_SEGMENTS];
+    int track_of[OBJ_MAX_SEGMENTS];
     for (size_t i = 0u; i < n; i++) {
         to_world(cur, found[i].cx, found[i].cy, &wx[i], &wy[i]);
         track_of[i] = -1;
@@ -453,19 +455,33 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     double px[OBJ_MAX_TRACKS];
     double py[OBJ_MAX_TRACKS];
     bool taken[OBJ_MAX_TRACKS];
+    bool hold[OBJ_MAX_TRACKS];
     for (uint32_t j = 0u; j < t->tracks_used; j++) {
-        track_predict(&t->tracks[j], time_s, &px[j], &py[j]);
+        const obj_track_t *tr = &t->tracks[j];
+        track_predict(tr, time_s, &px[j], &py[j]);
         taken[j] = false;
+        double vx;
+        double vy;
+        hold[j] = tr->hits >= OBJ_CONFIRM && tr->held < OBJ_MAX_HELD &&
+                  tr->length >= OBJ_HOLD_TRACK_LENGTH_M &&
+                  track_velocity(tr, tr->t[tr->n - 1u] - OBJ_VEL_WINDOW_S, &vx, &vy) &&
+                  hypot(vx, vy) >= OBJ_HOLD_MIN_SPEED;
     }
-    for (;;) {
-        double best = OBJ_GATE_M;
+    /* First the moving clusters and any track; then (hold) the other
+     * segments and the confirmed tracks still moving that are left. */
+    for (int pass = 0; pass < 2; pass++) {
+        double best = (pass == 0) ? OBJ_GATE_M : OBJ_HOLD_GATE_M;
         size_t bi = 0u;
         uint32_t bj = 0u;
         bool any = false;
         for (size_t i = 0u; i < n; i++) {
+            if (found[i].moving != (pass == 0)) {
+                continue;
+            }
             for (uint32_t j = 0u; j < t->tracks_used && track_of[i] < 0; j++) {
                 const double d = hypot(wx[i] - px[j], wy[i] - py[j]);
-                if (!taken[j] && d <= best) {
+                if (!taken[j] && d <= best &&
+                    (pass == 0 || (hold[j] && found[i].length >= OBJ_HOLD_MIN_LENGTH_M))) {
                     best = d;
                     bi = i;
                     bj = j;
@@ -473,11 +489,11 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
                 }
             }
         }
-        if (!any) {
-            break;
+        if (any) {
+            track_of[bi] = (int)bj;
+            taken[bj] = true;
+            pass--; /* the same pass again */
         }
-        track_of[bi] = (int)bj;
-        taken[bj] = true;
     }
     /* Update, age out, start tracks. */
     for (uint32_t j = 0u; j < t->tracks_used; j++) {
@@ -488,11 +504,14 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
             obj_track_t *tr = &t->tracks[track_of[i]];
             track_add(tr, time_s, wx[i], wy[i], &found[i]);
             tr->hits++;
-        } else if (t->tracks_used < OBJ_MAX_TRACKS) {
+            tr->held = found[i].moving ? 0u : tr->held + 1u;
+            tr->length = found[i].moving ? fmax(tr->length, found[i].length) : tr->length;
+        } else if (found[i].moving && t->tracks_used < OBJ_MAX_TRACKS) {
             obj_track_t *tr = &t->tracks[t->tracks_used++];
             memset(tr, 0, sizeof *tr);
             tr->id = t->next_id++;
             tr->hits = 1u;
+            tr->length = found[i].length;
             track_add(tr, time_s, wx[i], wy[i], &found[i]);
             track_of[i] = (int)(t->tracks_used - 1u);
         }

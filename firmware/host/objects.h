@@ -48,6 +48,16 @@
  * overtaking alongside grows into view at the edge of the field.) A track
  * not seen for OBJ_MAX_MISSES scans is dropped.
  *
+ * Hold: a body sliding along itself whose front is out of view (an
+ * oncoming car passing alongside) gives no evidence; a confirmed track of
+ * a vehicle (a moving cluster of it was OBJ_HOLD_TRACK_LENGTH_M long: not
+ * a pedestrian, who walks along shop fronts whose pieces it would hold
+ * on to) whose speed is at least OBJ_HOLD_MIN_SPEED, matched to no moving
+ * cluster, takes the nearest other segment at least OBJ_HOLD_MIN_LENGTH_M
+ * long within OBJ_HOLD_GATE_M of its prediction, for at most OBJ_MAX_HELD scans in a row. On a static
+ * segment its velocity falls below the hold speed within a window, which
+ * ends the hold.
+ *
  * Memory: static, in obj_tracker_t (about 0.5 MB: OBJ_HISTORY scans of
  * OBJ_MAX_BEAMS ranges, OBJ_MAX_TRACKS tracks); at most OBJ_MAX_OBJECTS
  * clusters a scan (more are dropped). */
@@ -79,6 +89,12 @@
 #define OBJ_VEL_WINDOW_S 0.3
 #define OBJ_VEL_MIN_S 0.1
 #define OBJ_MAX_MISSES 8u
+#define OBJ_MAX_SEGMENTS 256u
+#define OBJ_HOLD_GATE_M 1.0
+#define OBJ_HOLD_MIN_SPEED 0.5
+#define OBJ_HOLD_MIN_LENGTH_M 1.0
+#define OBJ_HOLD_TRACK_LENGTH_M 2.0
+#define OBJ_MAX_HELD 150u
 
 /* The header line of `lmsego replay --objects`. */
 #define OBJ_CSV_HEADER "scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points\n"
@@ -107,6 +123,7 @@ typedef struct {
      * field of view or by something in front). */
     double end[2][2];
     bool end_ok[2];
+    bool moving; /* a moving cluster (else a segment a track holds) */
 } obj_object_t;
 
 typedef struct {
@@ -122,6 +139,8 @@ typedef struct {
     uint32_t id;
     uint32_t hits;
     uint32_t misses;
+    uint32_t held;         /* scans in a row on a segment without evidence */
+    double length;         /* the longest of its moving clusters, m */
     uint32_t n;            /* centres kept, at most OBJ_TRACK_POINTS */
     double t[OBJ_TRACK_POINTS];
     double x[OBJ_TRACK_POINTS]; /* world frame, oldest first */
