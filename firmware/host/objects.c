@@ -210,8 +210,10 @@ static bool series_slope(const obj_track_t *tr, const double *xs, const double *
 }
 
 /* A track's velocity since t0 (objects.h: its silhouette ends when they
- * stay uncut, else its centre); false when unknown. */
-static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double *vy)
+ * stay uncut, else its centre); false when unknown. *from_ends (may be
+ * NULL) tells which. */
+static bool track_velocity_from(const obj_track_t *tr, double t0, double *vx, double *vy,
+                                bool *from_ends)
 {
     double sum_x = 0.0;
     double sum_y = 0.0;
@@ -229,12 +231,20 @@ static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double 
             ends++;
         }
     }
+    if (from_ends != NULL) {
+        *from_ends = ends > 0;
+    }
     if (ends > 0) {
         *vx = sum_x / ends;
         *vy = sum_y / ends;
         return true;
     }
     return series_slope(tr, tr->x, tr->y, t0, vx, vy);
+}
+
+static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double *vy)
+{
+    return track_velocity_from(tr, t0, vx, vy, NULL);
 }
 
 /* Where a track is expected at time ts (world frame). */
@@ -462,10 +472,12 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
         taken[j] = false;
         double vx;
         double vy;
+        bool from_ends = false;
         hold[j] = tr->hits >= OBJ_CONFIRM && tr->held < OBJ_MAX_HELD &&
                   tr->length >= OBJ_HOLD_TRACK_LENGTH_M &&
-                  track_velocity(tr, tr->t[tr->n - 1u] - OBJ_VEL_WINDOW_S, &vx, &vy) &&
-                  hypot(vx, vy) >= OBJ_HOLD_MIN_SPEED;
+                  track_velocity_from(tr, tr->t[tr->n - 1u] - OBJ_VEL_WINDOW_S, &vx, &vy,
+                                      &from_ends) &&
+                  from_ends && hypot(vx, vy) >= OBJ_HOLD_MIN_SPEED;
     }
     /* First the moving clusters and any track; then (hold) the other
      * segments and the confirmed tracks still moving that are left. */

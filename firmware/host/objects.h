@@ -52,7 +52,9 @@
  * oncoming car passing alongside) gives no evidence; a confirmed track of
  * a vehicle (a moving cluster of it was OBJ_HOLD_TRACK_LENGTH_M long: not
  * a pedestrian, who walks along shop fronts whose pieces it would hold
- * on to) whose speed is at least OBJ_HOLD_MIN_SPEED, matched to no moving
+ * on to) whose speed, from an uncut end (a centre sliding out of the field
+ * of view makes a static wall seem to move), is at least
+ * OBJ_HOLD_MIN_SPEED, matched to no moving
  * cluster, takes the nearest other segment at least OBJ_HOLD_MIN_LENGTH_M
  * long within OBJ_HOLD_GATE_M of its prediction, for at most OBJ_MAX_HELD scans in a row. On a static
  * segment its velocity falls below the hold speed within a window, which
