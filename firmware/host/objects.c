@@ -464,8 +464,8 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     /* Greedy association, nearest pair first. */
     double px[OBJ_MAX_TRACKS];
     double py[OBJ_MAX_TRACKS];
-    bool taken[OBJ_MAX_TRACKS];
-    bool hold[OBJ_MAX_TRACKS];
+    bool taken[OBJ_MAX_TRACKS] = {false};
+    bool hold[OBJ_MAX_TRACKS] = {false};
     for (uint32_t j = 0u; j < t->tracks_used; j++) {
         const obj_track_t *tr = &t->tracks[j];
         track_predict(tr, time_s, &px[j], &py[j]);
@@ -481,7 +481,8 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     }
     /* First the moving clusters and any track; then (hold) the other
      * segments and the confirmed tracks still moving that are left. */
-    for (int pass = 0; pass < 2; pass++) {
+    int pass = 0;
+    while (pass < 2) {
         double best = (pass == 0) ? OBJ_GATE_M : OBJ_HOLD_GATE_M;
         size_t bi = 0u;
         uint32_t bj = 0u;
@@ -504,7 +505,8 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
         if (any) {
             track_of[bi] = (int)bj;
             taken[bj] = true;
-            pass--; /* the same pass again */
+        } else {
+            pass++;
         }
     }
     /* Update, age out, start tracks. */

@@ -115,15 +115,15 @@ typedef struct {
 
 /* One reported object, in the current vehicle frame. */
 typedef struct {
-    uint32_t id;
     double cx, cy;        /* m */
     double length, width; /* m */
     double vx, vy;        /* m/s over ground; NaN: not known yet */
-    uint16_t points;
     /* Private: the cluster's first and last points (world frame) and
      * whether each is the body's own silhouette edge (not cut by the
      * field of view or by something in front). */
     double end[2][2];
+    uint32_t id;
+    uint16_t points;
     bool end_ok[2];
     bool moving; /* a moving cluster (else a segment a track holds) */
 } obj_object_t;
