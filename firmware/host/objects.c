@@ -112,7 +112,8 @@ static bool seen_free(const obj_frame_t *f, double wx, double wy)
     double range;
     double index;
     polar(f, wx, wy, &range, &index);
-    if (!(index >= 0.0) || index > (double)(f->count - 1u) || range > OBJ_MAX_RANGE_M) {
+    if (f->count == 0u || !(index >= 0.0) || index > (double)(f->count - 1u) ||
+        range > OBJ_MAX_RANGE_M) {
         return false;
     }
     const uint32_t j0 = (uint32_t)floor(index);
@@ -452,7 +453,7 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     if (ref == NULL) {
         return 0u;
     }
-    static obj_object_t found[OBJ_MAX_SEGMENTS];
+    static obj_object_t found[OBJ_MAX_SEGMENTS]; /* 24 KB: static, not reentrant */
     const size_t n = find_clusters(cur, ref, found);
     double wx[OBJ_MAX_SEGMENTS];
     double wy[OBJ_MAX_SEGMENTS];

@@ -60,9 +60,11 @@
  * segment its velocity falls below the hold speed within a window, which
  * ends the hold.
  *
- * Memory: static, in obj_tracker_t (about 0.5 MB: OBJ_HISTORY scans of
- * OBJ_MAX_BEAMS ranges, OBJ_MAX_TRACKS tracks); at most OBJ_MAX_OBJECTS
- * clusters a scan (more are dropped). */
+ * Memory: static, in obj_tracker_t (about 0.35 MB: OBJ_HISTORY scans of
+ * OBJ_MAX_BEAMS ranges, OBJ_MAX_TRACKS tracks of OBJ_TRACK_POINTS
+ * sightings), plus 24 KB of segments (OBJ_MAX_SEGMENTS a scan) static in
+ * obj_scan: one tracker at a time, not reentrant. At most OBJ_MAX_OBJECTS
+ * objects a scan are reported, OBJ_MAX_TRACKS tracked (more are dropped). */
 #ifndef LMSEGO_OBJECTS_H
 #define LMSEGO_OBJECTS_H
 
