@@ -1,7 +1,7 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
  * [--mode HEX] [--budget none|default|U] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
  * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] [--times arrival|index]
- * [--baud B] [--sweep lms|instant]`:
+ * [--baud B] [--sweep lms|instant] [--objects OUT]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
@@ -57,6 +57,12 @@
  * O + s*K, so --pairs writes `O+K*(s-1) O+K*s ...` and a --prior line
  * `i j ...` with i = j - K is the prior of stream scan (j - O) / K.
  * The CSV keeps counting stream scans.
+ *
+ * --objects OUT writes the moving objects of every scan (objects.h says
+ * how they are found): a header line, then one line per object and scan,
+ * `scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points`, in the
+ * vehicle frame of that scan (x forward, y left), the velocity over
+ * ground ("nan" until the object's track spans 0.1 s).
  */
 #include <errno.h>
 #include <math.h>
@@ -67,6 +73,7 @@
 #include "commands.h"
 #include "ego_loop.h"
 #include "live_common.h"
+#include "objects.h"
 #include "stream_file.h"
 #include "stream_frames.h"
 
@@ -98,7 +105,60 @@ typedef struct {
     int have_ref;
     uint32_t ref;
     uint32_t target;
+    FILE *objects;            /* --objects, or NULL */
+    const ego_loop_t *loop;   /* --objects: its decoded scan */
+    obj_tracker_t *tracker;
 } replay_io_t;
+
+/* --objects: the moving objects of scan (whose values the loop has turned
+ * into ranges in place, ego_lms.h) on their line. */
+static void observe_objects(replay_io_t *io, uint32_t scan, uint32_t time_us,
+                            const ego_output_t *out)
+{
+    const lms_scan_t *lms = &io->loop->scan;
+    lms_layout_t layout;
+    if (lms_scan_layout(lms, &layout) != LMS_OK || lms->count > OBJ_MAX_BEAMS) {
+        return;
+    }
+    const double pi = 3.14159265358979323846;
+    const double unit_m = (lms->unit == LMS_UNIT_CM) ? 0.01 : 0.001;
+    const ego_lms_params_t *mount = &io->loop->config.lms;
+    double range[OBJ_MAX_BEAMS];
+    for (uint32_t k = 0u; k < lms->count; k++) {
+        range[k] = (double)lms->values[k] * unit_m;
+    }
+    obj_scan_t in;
+    in.count = lms->count;
+    /* The LMS angle minus 90 deg, turned by the mounting angle (ego_lms.c). */
+    in.first_bearing = ((double)layout.start_cdeg - 9000.0) * (pi / 18000.0) +
+                       (double)fx_bam32_diff(mount->mount_theta, 0u) * (pi / 2147483648.0);
+    in.bearing_step = (double)layout.step_cdeg * (pi / 18000.0);
+    in.origin_x = (double)mount->mount_x / 65536.0;
+    in.origin_y = (double)mount->mount_y / 65536.0;
+    in.range = range;
+    const uint32_t unmeasured =
+        EGO_FLAG_FIRST | EGO_FLAG_PREDICTED | EGO_FLAG_RECOVERING | EGO_FLAG_RECOVERED;
+    obj_object_t found[OBJ_MAX_OBJECTS];
+    const size_t n = obj_scan(io->tracker, scan, (double)time_us * 1e-6,
+                              (out->flags & unmeasured) == 0u, (double)out->pose.x / 65536.0,
+                              (double)out->pose.y / 65536.0,
+                              (double)fx_bam32_diff(out->pose.theta, 0u) * (pi / 2147483648.0),
+                              &in, found, OBJ_MAX_OBJECTS);
+    for (size_t i = 0u; i < n; i++) {
+        const obj_object_t *o = &found[i];
+        char v[64];
+        if (isfinite(o->vx) && isfinite(o->vy)) {
+            (void)snprintf(v, sizeof v, "%.3f,%.3f", o->vx, o->vy);
+        } else {
+            (void)snprintf(v, sizeof v, "nan,nan");
+        }
+        if (fprintf(io->objects, "%lu,%lu,%.3f,%.3f,%.3f,%.3f,%s,%u\n", (unsigned long)scan,
+                    (unsigned long)o->id, o->cx, o->cy, o->length, o->width, v,
+                    (unsigned)o->points) < 0) {
+            io->write_failed = 1;
+        }
+    }
+}
 
 /* Output of one scan: the extra files (host-only, doubles are fine). */
 static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
@@ -106,6 +166,9 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
     replay_io_t *io = ctx;
     io->wrapped |= time_us < io->last_time_us;
     io->last_time_us = time_us;
+    if (io->objects != NULL) {
+        observe_objects(io, scan, time_us, out);
+    }
     io->recovering = ((out->flags & EGO_FLAG_RECOVERING) != 0u) ? io->recovering + 1ul : 0ul;
     const double dx = (double)out->pose.x / 65536.0;
     const double dy = (double)out->pose.y / 65536.0;
@@ -382,6 +445,15 @@ static const char help[] =
     "  --pairs OUT   writes 'i j dx dy dtheta' (m, m, rad) per line's motion\n"
     "  --tum OUT     writes the trajectory 'time x y z qx qy qz qw' (s, m, quaternion)\n"
     "  --frames OUT  writes the binary frame per scan too (`lmsego frames OUT`)\n"
+    "  --objects OUT writes the moving objects of each scan with a measured motion:\n"
+    "                a header, then per object and scan\n"
+    "                'scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points': the\n"
+    "                centre and the sides of the box around its points along their\n"
+    "                principal axes (m, the scan's vehicle frame: x forward, y left),\n"
+    "                its velocity over ground in that frame (m/s; nan until its track\n"
+    "                spans 0.1 s), its points; id is stable while it is tracked. Found\n"
+    "                against the scan 0.2 s earlier (docs/experiments.md, \"Moving\n"
+    "                objects\"); a line without a measured motion starts over\n"
     "  --scan-step K, --scan-offset O  stream scan s is log scan O + s K (import-carmen\n"
     "                --stride K --offset O): --prior and --pairs count log scans\n"
     "                (default 1 and 0)\n";
@@ -404,6 +476,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *prior_path = NULL;
     const char *tum_path = NULL;
     const char *frames_path = NULL;
+    const char *objects_path = NULL;
+    static obj_tracker_t tracker;
     unsigned long scan_step = 1u;
     unsigned long scan_offset = 0u;
     int times_index = 0;  /* --times index */
@@ -466,6 +540,12 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                 return cli_usage_error(self, "missing file after", arg, NULL);
             }
             prior_path = value;
+            i++;
+        } else if (strcmp(arg, "--objects") == 0) {
+            if (value == NULL) {
+                return cli_usage_error(self, "missing file after", arg, NULL);
+            }
+            objects_path = value;
             i++;
         } else if (strcmp(arg, "--pairs") == 0 || strcmp(arg, "--tum") == 0 ||
                    strcmp(arg, "--frames") == 0) {
@@ -547,9 +627,11 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     }
     if ((pairs_path != NULL && (io.pairs = open_output(pairs_path)) == NULL) ||
         (tum_path != NULL && (io.tum = open_output(tum_path)) == NULL) ||
-        (frames_path != NULL && (io.frames = open_output(frames_path)) == NULL)) {
+        (frames_path != NULL && (io.frames = open_output(frames_path)) == NULL) ||
+        (objects_path != NULL && (io.objects = open_output(objects_path)) == NULL)) {
         (void)close_output(io.pairs, pairs_path);
         (void)close_output(io.tum, tum_path);
+        (void)close_output(io.frames, frames_path);
         stream_file_close(&io.file);
         free(io.prior);
         free(io.has_prior);
@@ -566,11 +648,20 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         (void)close_output(io.pairs, pairs_path);
         (void)close_output(io.tum, tum_path);
         (void)close_output(io.frames, frames_path);
+        (void)close_output(io.objects, objects_path);
         stream_file_close(&io.file);
         free(io.prior);
         free(io.has_prior);
         return cli_usage_error(self, "--times arrival needs a recording with arrival times",
                                shown, "a raw stream has none");
+    }
+    if (io.objects != NULL) {
+        obj_init(&tracker);
+        io.tracker = &tracker;
+        io.loop = &loop;
+        if (fputs(OBJ_CSV_HEADER, io.objects) == EOF) {
+            io.write_failed = 1;
+        }
     }
     if (io.tum != NULL) { /* the first scan, at the origin */
         (void)fprintf(io.tum, "%.6f 0.000000 0.000000 0 0 0 0.000000000 1.000000000\n", 0.0);
@@ -588,7 +679,8 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     free(io.prior);
     free(io.has_prior);
     const int closed = close_output(io.pairs, pairs_path) | close_output(io.tum, tum_path) |
-                       close_output(io.frames, frames_path);
+                       close_output(io.frames, frames_path) |
+                       close_output(io.objects, objects_path);
     if (io.failed) {
         stream_frames_read_error(&io.file, shown);
         return CLI_EXIT_RUNTIME;

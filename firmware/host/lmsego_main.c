@@ -24,7 +24,7 @@ static const cli_command_t commands[] = {
     {"replay",
      "[--period S] [--mount X,Y,DEG] [--mode HEX] [--budget none|default|U] [--icp] [--hist KIND] [--prior FILE] "
      "[--pairs OUT] [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] "
-     "[--times arrival|index] [--baud B] [--sweep lms|instant] FILE",
+     "[--times arrival|index] [--baud B] [--sweep lms|instant] [--objects OUT] FILE",
      "run the firmware loop: ego-motion CSV, one line per scan", cmd_replay},
     {"frames", "FILE", "decode a captured stream of binary ego-motion frames to the replay CSV",
      cmd_frames},

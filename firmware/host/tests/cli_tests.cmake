@@ -332,6 +332,12 @@ lmsego_cli_test(replay_frames_missing_value ARGS replay ${LMSEGO_SEQ}/table2_361
 lmsego_cli_test(replay_frames_unwritable ARGS replay --frames /nonexistent-dir/x.bin
     ${LMSEGO_SEQ}/table2_361_cm.lms
     OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=x\\.bin)
+lmsego_cli_test(replay_objects_unwritable ARGS replay --objects /nonexistent-dir/x.objects
+    ${LMSEGO_SEQ}/table2_361_cm.lms
+    OPTIONS -DEXPECT_RC=1 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON
+            "-DSTDERR_REGEX=cannot create '/nonexistent-dir/x\\.objects'")
+lmsego_cli_test(replay_objects_missing_value ARGS replay ${LMSEGO_SEQ}/table2_361_cm.lms --objects
+    OPTIONS -DEXPECT_RC=2 -DEXPECT_STDOUT_EMPTY=ON -DSTDERR_ONE_LINE=ON -DSTDERR_REGEX=--objects)
 
 # --- inputs that hold nothing usable (issue 18: "the command line never shrugs") ---
 # An input without a single scan or frame (empty, noise, zeros) gave no
