@@ -229,9 +229,7 @@ static gzFile open_log(const char *path)
     const int fd = open(path, O_RDONLY);
     struct stat st;
     int error = 0;
-    if (fd < 0) {
-        error = errno;
-    } else if (fstat(fd, &st) != 0) {
+    if (fd < 0 || fstat(fd, &st) != 0) {
         error = errno;
     } else if (S_ISDIR(st.st_mode)) {
         error = EISDIR;

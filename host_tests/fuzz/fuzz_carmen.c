@@ -120,14 +120,19 @@ static void check_odometry(unsigned long stride, unsigned long scans)
     char line[256];
     unsigned long lines = 0u;
     while (fgets(line, sizeof line, f) != NULL) {
-        unsigned long i = 0u;
-        unsigned long j = 0u;
-        double dx = 0.0;
-        double dy = 0.0;
-        double dt = 0.0;
         FUZZ_CHECK(strchr(line, '\n') != NULL);
-        FUZZ_CHECK(sscanf(line, "%lu %lu %lf %lf %lf", &i, &j, &dx, &dy, &dt) == 5);
-        FUZZ_CHECK(j == i + stride && isfinite(dx) && isfinite(dy) && isfinite(dt));
+        char *p = line;
+        char *end = NULL;
+        const unsigned long i = strtoul(p, &end, 10);
+        FUZZ_CHECK(end != p && *end == ' ');
+        p = end;
+        const unsigned long j = strtoul(p, &end, 10);
+        FUZZ_CHECK(end != p && *end == ' ' && j == i + stride);
+        for (unsigned k = 0u; k < 3u; k++) {
+            p = end;
+            const double v = strtod(p, &end);
+            FUZZ_CHECK(end != p && isfinite(v) && *end == ((k < 2u) ? ' ' : '\n'));
+        }
         lines++;
     }
     FUZZ_CHECK(fclose(f) == 0);
@@ -156,22 +161,31 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char offset_text[8];
     (void)snprintf(stride_text, sizeof stride_text, "%lu", stride);
     (void)snprintf(offset_text, sizeof offset_text, "%lu", offset);
+    /* argv as main gets it: writable strings. */
+    static char name[] = "import-carmen";
+    static char opt_o[] = "-o";
+    static char opt_stride[] = "--stride";
+    static char opt_offset[] = "--offset";
+    static char opt_no_return[] = "--no-return";
+    static char opt_odometry[] = "--odometry";
+    char nr_text[8];
     char *argv[16];
     int argc = 0;
-    argv[argc++] = (char *)(uintptr_t)"import-carmen";
+    argv[argc++] = name;
     argv[argc++] = log_path;
-    argv[argc++] = (char *)(uintptr_t)"-o";
+    argv[argc++] = opt_o;
     argv[argc++] = out_path;
-    argv[argc++] = (char *)(uintptr_t)"--stride";
+    argv[argc++] = opt_stride;
     argv[argc++] = stride_text;
-    argv[argc++] = (char *)(uintptr_t)"--offset";
+    argv[argc++] = opt_offset;
     argv[argc++] = offset_text;
     if (nr != NULL) {
-        argv[argc++] = (char *)(uintptr_t)"--no-return";
-        argv[argc++] = (char *)(uintptr_t)nr;
+        (void)snprintf(nr_text, sizeof nr_text, "%s", nr);
+        argv[argc++] = opt_no_return;
+        argv[argc++] = nr_text;
     }
     if (odometry) {
-        argv[argc++] = (char *)(uintptr_t)"--odometry";
+        argv[argc++] = opt_odometry;
         argv[argc++] = odom_path;
     }
     argv[argc] = NULL;

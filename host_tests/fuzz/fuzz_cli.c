@@ -32,6 +32,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
@@ -46,6 +47,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 typedef struct {
     int argc;
     char *argv[MAX_ARGS + 1];
+    char name[16];
     char text[MAX_TEXT + 1u];
     size_t len;
 } args_t;
@@ -64,7 +66,8 @@ static void split(args_t *a, const char *name, const uint8_t *bytes, size_t n)
     a->text[n] = '\0';
     a->len = n + 1u;
     a->argc = 0;
-    a->argv[a->argc++] = (char *)(uintptr_t)name;
+    (void)snprintf(a->name, sizeof a->name, "%s", name);
+    a->argv[a->argc++] = a->name;
     size_t at = 0u;
     while (at < n && a->argc < MAX_ARGS) {
         a->argv[a->argc++] = &a->text[at];
@@ -113,12 +116,14 @@ static void fuzz_replay(const cli_command_t *self, args_t *a)
 {
     static replay_options_t o;
     static replay_options_t again;
+    memset(&o, 0, sizeof o);
+    memset(&again, 0, sizeof again);
     replay_options_defaults(&o);
     replay_options_defaults(&again);
     const int rc = replay_parse_options(self, a->argc, a->argv, &o);
     check_rc(a, rc);
     FUZZ_CHECK(replay_parse_options(self, a->argc, a->argv, &again) == rc);
-    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0);
+    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0); // NOLINT(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): both zeroed first, padding equal
     FUZZ_CHECK(in_argv(a, o.path) && in_argv(a, o.pairs_path) && in_argv(a, o.prior_path) &&
                in_argv(a, o.tum_path) && in_argv(a, o.frames_path));
     if (rc != CLI_PARSED) {
@@ -139,12 +144,14 @@ static void fuzz_import(const cli_command_t *self, args_t *a)
 {
     import_options_t o;
     import_options_t again;
+    memset(&o, 0, sizeof o);
+    memset(&again, 0, sizeof again);
     import_options_defaults(&o);
     import_options_defaults(&again);
     const int rc = import_carmen_parse_options(self, a->argc, a->argv, &o);
     check_rc(a, rc);
     FUZZ_CHECK(import_carmen_parse_options(self, a->argc, a->argv, &again) == rc);
-    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0);
+    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0); // NOLINT(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): both zeroed first, padding equal
     FUZZ_CHECK(in_argv(a, o.log_path) && in_argv(a, o.out_path) && in_argv(a, o.odom_path));
     if (rc != CLI_PARSED) {
         return;
@@ -163,7 +170,7 @@ static void fuzz_live(const cli_command_t *self, args_t *a, bool record)
     const int rc = live_parse_options(self, a->argc, a->argv, record, &o);
     check_rc(a, rc);
     FUZZ_CHECK(live_parse_options(self, a->argc, a->argv, record, &again) == rc);
-    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0);
+    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0); // NOLINT(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): both zeroed first, padding equal
     FUZZ_CHECK(in_argv(a, o.port) && in_argv(a, o.out_path));
     if (rc != CLI_PARSED) {
         return;
@@ -182,7 +189,7 @@ static void fuzz_sim(const cli_command_t *self, args_t *a, bool play)
     const int rc = sim_parse_options(self, a->argc, a->argv, play, &o);
     check_rc(a, rc);
     FUZZ_CHECK(sim_parse_options(self, a->argc, a->argv, play, &again) == rc);
-    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0);
+    FUZZ_CHECK(memcmp(&o, &again, sizeof o) == 0); // NOLINT(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): both zeroed first, padding equal
     FUZZ_CHECK(in_argv(a, o.source) && in_argv(a, o.link) && in_argv(a, o.port));
     if (rc != CLI_PARSED) {
         return;
