@@ -177,8 +177,11 @@ static void set_host_baud(lms_session_t *s, lms_baud_t baud)
 {
     s->io.set_baud(s->io.ctx, baud);
     s->host_baud = baud;
-    /* Whatever was half received belongs to the old rate. */
+    /* Whatever was half received belongs to the old rate: dropped, and
+     * counted as skipped, so that the framer's accounting still balances
+     * (bytes_in == telegram_bytes + acks + naks + bytes_skipped + pending). */
     lms_framer_stats_t keep = s->framer.stats;
+    keep.bytes_skipped += (uint32_t)lms_framer_pending(&s->framer);
     lms_framer_init(&s->framer, LMS_FROM_SCANNER);
     s->framer.stats = keep;
 }

@@ -170,6 +170,26 @@ static bool check_candidate(ego_frame_decoder_t *d)
     return false;
 }
 
+/* Counts the complete frame at buf[0] and removes it. The buffer can hold
+ * more than the frame: a version 2 candidate whose CRC failed may hide a
+ * version 1 frame followed by the start of the next one (at most
+ * 66 - 1 - 42 = 23 bytes, never a whole frame). Those bytes stay, the
+ * ones before the next start byte skipped, and are checked again, so the
+ * next frame is still found. */
+static void take_frame(ego_frame_decoder_t *d)
+{
+    const size_t size = frame_size(d->buf[OFF_VERSION]);
+    d->stats.frames++;
+    d->stats.bytes_framed += (uint32_t)size;
+    d->fill = (uint8_t)(d->fill - size);
+    memmove(d->buf, &d->buf[size], d->fill);
+    if (d->fill > 0u && d->buf[0] != EGO_FRAME_START) {
+        drop_start(d);
+    }
+    /* Rejects a bad rest now; it is too short to be complete. */
+    (void)check_candidate(d);
+}
+
 static void decode(const uint8_t *b, ego_frame_t *f)
 {
     memset(f, 0, sizeof *f);
@@ -212,9 +232,7 @@ ego_frame_event_t ego_frame_feed(ego_frame_decoder_t *d, const uint8_t *bytes, s
         d->buf[d->fill++] = b;
         if (check_candidate(d)) {
             decode(d->buf, frame);
-            d->stats.frames++;
-            d->stats.bytes_framed += d->fill;
-            d->fill = 0u;
+            take_frame(d);
             *consumed = i + 1u;
             return EGO_FRAME_READY;
         }

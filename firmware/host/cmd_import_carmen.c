@@ -49,6 +49,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "cli_options.h"
 #include "commands.h"
 #include "lms_encode.h"
 
@@ -175,14 +176,9 @@ static int parse_laser(char **tok, unsigned ntok, laser_t *l)
     return 1;
 }
 
-typedef struct {
-    const char *log_path;
-    const char *out_path;
-    const char *odom_path;
-    double no_return; /* 0: the largest reading; INFINITY: none (--no-return none) */
-    unsigned long stride;
-    unsigned long offset; /* < stride */
-} import_args_t;
+/* import_options_t (cli_options.h): no_return 0 is the largest reading,
+ * INFINITY none (--no-return none). */
+typedef import_options_t import_args_t;
 
 /* What pass 1 learns of the log. */
 typedef struct {
@@ -477,15 +473,23 @@ static const char help[] =
     "  or would convert to nothing but no return (every reading its largest: give\n"
     "  --no-return); an output cannot be written; 2 bad command line\n";
 
-int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
+void import_options_defaults(import_options_t *o)
 {
-    import_args_t a = {NULL, NULL, NULL, 0.0, 1u, 0u};
+    const import_options_t d = {NULL, NULL, NULL, 0.0, 1u, 0u};
+    *o = d;
+}
+
+/* The options of import-carmen (cli_options.h). */
+int import_carmen_parse_options(const cli_command_t *self, int argc, char **argv,
+                                import_options_t *o)
+{
+    import_options_t a = *o;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (cli_is_help(arg)) {
             cli_print_command_usage(self, help);
-            return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
+            return cli_finish_stdout() ? CLI_PARSED_HELP : CLI_EXIT_RUNTIME;
         }
         if (strcmp(arg, "-o") == 0 || strcmp(arg, "--odometry") == 0) {
             if (value == NULL) {
@@ -530,5 +534,17 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
     if (a.out_path == NULL) {
         return cli_usage_error(self, "missing -o STREAM", NULL, NULL);
     }
-    return import(&a);
+    *o = a;
+    return CLI_PARSED;
+}
+
+int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
+{
+    import_options_t a;
+    import_options_defaults(&a);
+    const int rc = import_carmen_parse_options(self, argc, argv, &a);
+    if (rc == CLI_PARSED_HELP) {
+        return CLI_EXIT_OK;
+    }
+    return (rc == CLI_PARSED) ? import(&a) : rc;
 }

@@ -70,6 +70,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli_options.h"
 #include "commands.h"
 #include "ego_loop.h"
 #include "live_common.h"
@@ -465,24 +466,20 @@ static const char help_tail[] =
     "  no motion), or when time_s wrapped (after 4294.967296 s)\n"
     CLI_HELP_EXIT_STATUS;
 
-int cmd_replay(const cli_command_t *self, int argc, char **argv)
+void replay_options_defaults(replay_options_t *o)
 {
-    static ego_loop_config_t config;
-    static ego_loop_t loop;
-    ego_loop_defaults(&config);
-    ego_budget_defaults(&config.ego); /* as live: --budget none for the offline mode */
-    const char *path = NULL;
-    const char *pairs_path = NULL;
-    const char *prior_path = NULL;
-    const char *tum_path = NULL;
-    const char *frames_path = NULL;
-    const char *objects_path = NULL;
-    static obj_tracker_t tracker;
-    unsigned long scan_step = 1u;
-    unsigned long scan_offset = 0u;
-    int times_index = 0;  /* --times index */
-    int times_arrival = 0; /* --times arrival */
-    lms_baud_t baud = LMS_BAUD_500000;
+    memset(o, 0, sizeof *o);
+    ego_loop_defaults(&o->config);
+    ego_budget_defaults(&o->config.ego); /* as live: --budget none for the offline mode */
+    o->scan_step = 1u;
+    o->scan_offset = 0u;
+    o->baud = LMS_BAUD_500000;
+}
+
+/* The options of replay (cli_options.h). */
+int replay_parse_options(const cli_command_t *self, int argc, char **argv, replay_options_t *o)
+{
+    ego_loop_config_t *config = &o->config;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -494,30 +491,30 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                 "                recording's clock started, from the arrival times",
                 false);
             (void)fputs(help_tail, stdout);
-            return cli_finish_stdout() ? CLI_EXIT_OK : CLI_EXIT_RUNTIME;
+            return cli_finish_stdout() ? CLI_PARSED_HELP : CLI_EXIT_RUNTIME;
         }
         if (strcmp(arg, "--times") == 0) {
             if (value != NULL && strcmp(value, "index") == 0) {
-                times_index = 1;
-                times_arrival = 0;
+                o->times_index = 1;
+                o->times_arrival = 0;
             } else if (value != NULL && strcmp(value, "arrival") == 0) {
-                times_arrival = 1;
-                times_index = 0;
+                o->times_arrival = 1;
+                o->times_index = 0;
             } else {
                 return cli_usage_error(self, "invalid --times", value, "arrival or index");
             }
             i++;
         } else if (strcmp(arg, "--sweep") == 0) {
             if (value != NULL && strcmp(value, "lms") == 0) {
-                config.lms.timing = (uint8_t)EGO_LMS_TIMING_MIRROR;
+                config->lms.timing = (uint8_t)EGO_LMS_TIMING_MIRROR;
             } else if (value != NULL && strcmp(value, "instant") == 0) {
-                config.lms.timing = (uint8_t)EGO_LMS_TIMING_INSTANT;
+                config->lms.timing = (uint8_t)EGO_LMS_TIMING_INSTANT;
             } else {
                 return cli_usage_error(self, "invalid --sweep", value, "lms or instant");
             }
             i++;
         } else if (strcmp(arg, "--baud") == 0) {
-            if (live_parse_baud(value, &baud) != 0) {
+            if (live_parse_baud(value, &o->baud) != 0) {
                 return cli_usage_error(self, "invalid --baud", value,
                                        "9600, 19200, 38400 or 500000");
             }
@@ -528,10 +525,10 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                 s > PERIOD_MAX_S) {
                 return cli_usage_error(self, "invalid --period", value, "seconds, 0.001 .. 10");
             }
-            config.period_us = (uint32_t)lround(s * 1e6);
+            config->period_us = (uint32_t)lround(s * 1e6);
             i++;
         } else if (strcmp(arg, "--mount") == 0) {
-            if (value == NULL || cli_parse_mount(value, &config.lms) != 0) {
+            if (value == NULL || cli_parse_mount(value, &config->lms) != 0) {
                 return cli_usage_error(self, "invalid --mount", value, "X,Y,THETA_DEG in m and deg");
             }
             i++;
@@ -539,13 +536,13 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
             if (value == NULL) {
                 return cli_usage_error(self, "missing file after", arg, NULL);
             }
-            prior_path = value;
+            o->prior_path = value;
             i++;
         } else if (strcmp(arg, "--objects") == 0) {
             if (value == NULL) {
                 return cli_usage_error(self, "missing file after", arg, NULL);
             }
-            objects_path = value;
+            o->objects_path = value;
             i++;
         } else if (strcmp(arg, "--pairs") == 0 || strcmp(arg, "--tum") == 0 ||
                    strcmp(arg, "--frames") == 0) {
@@ -553,21 +550,21 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
                 return cli_usage_error(self, "missing file after", arg, NULL);
             }
             if (arg[2] == 'p') {
-                pairs_path = value;
+                o->pairs_path = value;
             } else if (arg[2] == 't') {
-                tum_path = value;
+                o->tum_path = value;
             } else {
-                frames_path = value;
+                o->frames_path = value;
             }
             i++;
         } else if (strcmp(arg, "--scan-step") == 0) {
-            if (cli_parse_whole(value, 1u, 100000u, &scan_step) != 0) {
+            if (cli_parse_whole(value, 1u, 100000u, &o->scan_step) != 0) {
                 return cli_usage_error(self, "invalid --scan-step", value,
                                        "a whole number, 1..100000");
             }
             i++;
         } else if (strcmp(arg, "--scan-offset") == 0) {
-            if (cli_parse_whole(value, 0u, 100000u, &scan_offset) != 0) {
+            if (cli_parse_whole(value, 0u, 100000u, &o->scan_offset) != 0) {
                 return cli_usage_error(self, "invalid --scan-offset", value,
                                        "a whole number, 0..100000");
             }
@@ -575,40 +572,68 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         } else if (strcmp(arg, "--budget") == 0) {
             double units = 0.0;
             if (value != NULL && strcmp(value, "none") == 0) {
-                config.ego.work_per_s = 0u;
+                config->ego.work_per_s = 0u;
             } else if (value != NULL && strcmp(value, "default") == 0) {
-                ego_budget_defaults(&config.ego);
+                ego_budget_defaults(&config->ego);
             } else if (value == NULL || cli_parse_double(value, &units) != 0 || units < 1e5 ||
                        units > 4e9) {
                 return cli_usage_error(self, "invalid --budget", value,
                                        "none, default, or work units per second, 1e5 .. 4e9");
             } else {
-                ego_budget_defaults(&config.ego);
-                config.ego.work_per_s = (uint32_t)lround(units);
+                ego_budget_defaults(&config->ego);
+                config->ego.work_per_s = (uint32_t)lround(units);
             }
             i++;
         } else if (strcmp(arg, "--icp") == 0) {
-            config.ego.track.weighted = false; /* plain ICP, for comparison */
+            config->ego.track.weighted = false; /* plain ICP, for comparison */
         } else if (strcmp(arg, "--hist") == 0) {
-            if (value == NULL || parse_hist(value, &config.ego.hist.kind) != 0) {
+            if (value == NULL || parse_hist(value, &config->ego.hist.kind) != 0) {
                 return cli_usage_error(self, "invalid --hist", value, "AH, LAH, HAH or HTAH");
             }
             i++;
         } else if (strcmp(arg, "--mode") == 0) {
-            if (value == NULL || cli_parse_meas_mode(value, &config.lms.meas_mode) != 0) {
+            if (value == NULL || cli_parse_meas_mode(value, &config->lms.meas_mode) != 0) {
                 return cli_usage_error(self, "invalid --mode", value, "expected 00..06 or 0F");
             }
             i++;
         } else {
-            const int rc = cli_take_file(self, arg, &path);
+            const int rc = cli_take_file(self, arg, &o->path);
             if (rc != CLI_EXIT_OK) {
                 return rc;
             }
         }
     }
-    if (path == NULL) {
+    if (o->path == NULL) {
         return cli_usage_error(self, "missing FILE", NULL, NULL);
     }
+    return CLI_PARSED;
+}
+
+int cmd_replay(const cli_command_t *self, int argc, char **argv)
+{
+    static replay_options_t o;
+    static ego_loop_t loop;
+    replay_options_defaults(&o);
+    const int rc = replay_parse_options(self, argc, argv, &o);
+    if (rc == CLI_PARSED_HELP) {
+        return CLI_EXIT_OK;
+    }
+    if (rc != CLI_PARSED) {
+        return rc;
+    }
+    ego_loop_config_t config = o.config;
+    const char *path = o.path;
+    const char *pairs_path = o.pairs_path;
+    const char *prior_path = o.prior_path;
+    const char *tum_path = o.tum_path;
+    const char *frames_path = o.frames_path;
+    const char *objects_path = o.objects_path;
+    static obj_tracker_t tracker;
+    const unsigned long scan_step = o.scan_step;
+    const unsigned long scan_offset = o.scan_offset;
+    const int times_index = o.times_index;
+    const int times_arrival = o.times_arrival;
+    const lms_baud_t baud = o.baud;
 
     replay_io_t io;
     memset(&io, 0, sizeof io);

@@ -41,6 +41,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "cli_options.h"
 #include "commands.h"
 #include "ego_live.h"
 #include "ego_loop.h"
@@ -108,15 +109,6 @@ static int parse_variant(const char *text, uint16_t *angle, uint16_t *res)
     return -1;
 }
 
-typedef struct {
-    const char *port;
-    const char *out_path;  /* record */
-    unsigned long scans;   /* 0: until a signal */
-    bool run_records;      /* run --record */
-    lms_session_config_t session;
-    ego_loop_config_t loop;
-} live_options_t;
-
 /* The help of run and record: their common bring-up options, then each
  * one's own. */
 #define HELP_BRING_UP                                                                            \
@@ -156,13 +148,20 @@ static const char tail_record[] =
     "exit status: 0 after a clean stop (signal or --scans), 1 when the port or FILE\n"
     "  cannot be used or the scanner refuses a setting, 2 bad command line\n";
 
-/* parse_options: --help was printed, nothing else to do. */
-#define PARSED_HELP (-1)
+void live_options_defaults(live_options_t *o)
+{
+    /* The options start from the live core's defaults (its session, and
+     * its loop within the sensor-rate budget). */
+    ego_live_config_t config;
+    ego_live_defaults(&config);
+    memset(o, 0, sizeof *o);
+    o->session = config.session;
+    o->loop = config.loop;
+}
 
-/* Parses the options of run (record false) or record: 0, PARSED_HELP or
- * an exit code. */
-static int parse_options(const cli_command_t *self, int argc, char **argv, bool record,
-                         live_options_t *o)
+/* The options of run (record false) or record (cli_options.h). */
+int live_parse_options(const cli_command_t *self, int argc, char **argv, bool record,
+                       live_options_t *o)
 {
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -178,7 +177,7 @@ static int parse_options(const cli_command_t *self, int argc, char **argv, bool 
                                       true);
             }
             (void)fputs(record ? tail_record : tail_run, stdout);
-            return cli_finish_stdout() ? PARSED_HELP : CLI_EXIT_RUNTIME;
+            return cli_finish_stdout() ? CLI_PARSED_HELP : CLI_EXIT_RUNTIME;
         }
         if (strcmp(arg, "--port") == 0 && value != NULL) {
             o->port = value;
@@ -371,20 +370,16 @@ static int live(const cli_command_t *self, int argc, char **argv, bool record)
     size_t prev_len = 0u;
     uint64_t prev_us = 0u;
     bool recorded = false;
-    memset(&o, 0, sizeof o);
     memset(&io, 0, sizeof io);
     queue.head = 0u;
     queue.count = 0u;
     queue.dropped = 0u;
     queue.deepest = 0u;
-    /* The options start from the live core's defaults (its session, and
-     * its loop within the sensor-rate budget) and replace them below. */
     ego_live_config_t config;
     ego_live_defaults(&config);
-    o.session = config.session;
-    o.loop = config.loop;
-    const int rc = parse_options(self, argc, argv, record, &o);
-    if (rc == PARSED_HELP) {
+    live_options_defaults(&o);
+    const int rc = live_parse_options(self, argc, argv, record, &o);
+    if (rc == CLI_PARSED_HELP) {
         return CLI_EXIT_OK; /* --help */
     }
     if (rc != 0) {

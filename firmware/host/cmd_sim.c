@@ -36,6 +36,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli_options.h"
 #include "commands.h"
 #include "live_common.h"
 #include "lms_encode.h"
@@ -266,18 +267,6 @@ static int line_fd(const line_t *l)
     return l->use_pty ? l->pty.master : l->port.fd;
 }
 
-typedef struct {
-    const char *source;   /* sim --source / play FILE */
-    const char *link;
-    const char *port;
-    bool pty;
-    bool loop;
-    unsigned long scans;  /* sim: stop after N (0: never) */
-    lms_sim_config_t sim;
-} sim_options_t;
-
-#define PARSED_HELP (-1)
-
 static const char help_sim[] =
     "input: none, or --source STREAM\n"
     "options:\n"
@@ -314,15 +303,22 @@ static const char help_play[] =
     "exit status: 0 when the last scan has left (or at SIGINT / SIGTERM), 1 when FILE\n"
     "  holds no scan or the line cannot be used, 2 bad command line\n";
 
-static int parse_options(const cli_command_t *self, int argc, char **argv, bool play,
-                         sim_options_t *o)
+void sim_options_defaults(sim_options_t *o)
+{
+    memset(o, 0, sizeof *o);
+    lms_sim_defaults(&o->sim);
+}
+
+/* The options of sim (play false) or play (cli_options.h). */
+int sim_parse_options(const cli_command_t *self, int argc, char **argv, bool play,
+                      sim_options_t *o)
 {
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (cli_is_help(arg)) {
             cli_print_command_usage(self, play ? help_play : help_sim);
-            return cli_finish_stdout() ? PARSED_HELP : CLI_EXIT_RUNTIME;
+            return cli_finish_stdout() ? CLI_PARSED_HELP : CLI_EXIT_RUNTIME;
         }
         if (play && strcmp(arg, "--pty") == 0) {
             o->pty = true;
@@ -432,14 +428,13 @@ static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
     static lms_sim_t sim;
     static recorded_t rec;
     static line_t line;
-    memset(&o, 0, sizeof o);
     memset(&rec, 0, sizeof rec);
     memset(&line, 0, sizeof line);
     line.pty.master = -1;
     line.port.fd = -1;
-    lms_sim_defaults(&o.sim);
-    const int rc = parse_options(self, argc, argv, play, &o);
-    if (rc == PARSED_HELP) {
+    sim_options_defaults(&o);
+    const int rc = sim_parse_options(self, argc, argv, play, &o);
+    if (rc == CLI_PARSED_HELP) {
         return CLI_EXIT_OK;
     }
     if (rc != 0) {

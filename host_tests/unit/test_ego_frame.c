@@ -497,6 +497,39 @@ static void test_ego_frame_feed_null_and_empty(void)
     TEST_ASSERT_EQUAL_UINT32(0u, ego_frame_stats(&d)->truncated);
 }
 
+/* A version 2 candidate whose CRC fails can hold a whole version 1 frame
+ * and the start of the next frame after it (fuzz_frame found it, issue 18):
+ * the version 1 frame is reported with its own 42 bytes, and the bytes
+ * after it stay buffered, so the next frame is still found. The decoder
+ * used to count the whole buffer as the frame's and drop the rest. */
+static void test_ego_frame_short_frame_inside_a_bad_candidate(void)
+{
+    static uint8_t s[EGO_FRAME_SIZE + EGO_FRAME_SIZE];
+    size_t len = 0u;
+    const uint8_t head[] = {0xE5, 0x02, 0x3D, 0x11, 0x22, 0x33, 0x44, 0x55};
+    memcpy(&s[len], head, sizeof head);
+    len += sizeof head;
+    memcpy(&s[len], example_v1_bytes, EGO_FRAME_V1_SIZE);
+    len += EGO_FRAME_V1_SIZE;
+    /* The bogus candidate ends 16 bytes into the next frame. */
+    TEST_ASSERT_EQUAL_UINT(EGO_FRAME_SIZE - 16u, len);
+    memcpy(&s[len], example_bytes, EGO_FRAME_SIZE);
+    len += EGO_FRAME_SIZE;
+    for (int mode = FEED_WHOLE; mode <= FEED_RANDOM; mode++) {
+        decoded_t d;
+        decode_stream(s, len, (feed_mode_t)mode, 3u, &d);
+        TEST_ASSERT_EQUAL_UINT(2u, d.count);
+        ego_frame_t f = example_frame();
+        ego_cov_unknown(&f.out.cov);
+        assert_same_frame(&f, &d.frames[0], "version 1 inside");
+        const ego_frame_t g = example_frame();
+        assert_same_frame(&g, &d.frames[1], "version 2 after it");
+        TEST_ASSERT_EQUAL_UINT32(EGO_FRAME_V1_SIZE + EGO_FRAME_SIZE, d.stats.bytes_framed);
+        TEST_ASSERT_EQUAL_UINT32(sizeof head, d.stats.bytes_skipped);
+        TEST_ASSERT_EQUAL_UINT32(1u, d.stats.crc_errors);
+    }
+}
+
 /* --- the CSV line ------------------------------------------------------- */
 
 static void test_ego_format_line_example(void)
@@ -713,6 +746,7 @@ int main(void)
     RUN_TEST(test_ego_frame_garbage_before_and_between);
     RUN_TEST(test_ego_frame_chunking_gives_identical_results);
     RUN_TEST(test_ego_frame_feed_null_and_empty);
+    RUN_TEST(test_ego_frame_short_frame_inside_a_bad_candidate);
     RUN_TEST(test_ego_format_line_example);
     RUN_TEST(test_ego_format_line_matches_printf_oracle);
     RUN_TEST(test_ego_loop_frames_decode_to_its_csv);
