@@ -154,7 +154,12 @@ static void set_velocities(ego_output_t *out)
     /* theta (2^32 a turn) -> rad/s in Q16.16, in two steps to stay in
      * int64: |theta| * 411775 < 2^50, then * 10^6 / 2^32. */
     const int64_t per_us = (int64_t)fx_bam32_diff(out->pose.theta, 0u) * RAD_Q16_PER_TURN / dt;
-    out->omega = fx_sat_s32(per_us * US_PER_S / 4294967296LL);
+    /* Over an interval of microseconds a turn is beyond any rate: saturated
+     * before the product leaves int64 (fuzz finding E1, docs/robustness.md). */
+    const int64_t limit = INT64_MAX / US_PER_S;
+    out->omega = (per_us > limit)    ? INT32_MAX
+                 : (per_us < -limit) ? -INT32_MAX
+                                     : fx_sat_s32(per_us * US_PER_S / 4294967296LL);
 }
 
 /* pose += ((predicted - pose) . d) d, d the unit vector of direction. */
