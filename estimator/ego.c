@@ -1368,17 +1368,6 @@ typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW, START_PRIOR
  * budget the along start then needed). */
 #define PRIOR_REACH_MIN FX_Q16_16_C(0.03)
 
-/* Is pose within reach of start (translation). */
-static bool within_reach(const ego_pose_t *pose, const ego_pose_t *start, fx_q16_16_t reach)
-{
-    const int64_t dx = (int64_t)pose->x - start->x; /* below 2^32 */
-    const int64_t dy = (int64_t)pose->y - start->y;
-    if (dx > reach || -dx > reach || dy > reach || -dy > reach) {
-        return false; /* and the squares below stay below 2^62 */
-    }
-    return dx * dx + dy * dy <= (int64_t)reach * reach;
-}
-
 /* The reach of a prior, or 0 when it needs more than NARROW_RADIUS. */
 static fx_q16_16_t prior_reach(const ego_pose_t *prior)
 {
@@ -1428,9 +1417,6 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
-    if (kind == START_PRIOR && !within_reach(&r.pose, start, 2 * prior_reach(start))) {
-        return TRACK_FAILED; /* pulled out of the prior's reach: onto the trucks */
-    }
     /* Two starts of the scan that converge to one pose, each fitting
      * loosely, agree: the light search's rule for its coarse passes (the
      * second may be cut by the budget on its way back). */
