@@ -165,6 +165,7 @@ typedef struct {
     uint32_t lost_outside;
     uint32_t lost_in_faults;
     uint32_t unmatched;       /* taken scans that are no sent scan */
+    uint32_t unmatched_outside; /* ... but in byte damage or line noise */
     uint32_t lines;
     uint32_t compared;
     uint32_t wrong;
@@ -186,40 +187,41 @@ typedef struct {
 } sent_t;
 
 typedef struct {
-    /* The board. */
+    /* Grouped by size (no padding). The board. */
     lms_sim_t sim;
-    uart_ring_t ring;
     ego_live_t live;
-    lms_baud_t host_baud;
-    uint64_t now;
-    uint32_t rnd;             /* the schedule's PRNG */
-    uint32_t noise;           /* the line noise's PRNG */
-    bool line_down;           /* a hang-up: nothing passes */
-    uint64_t line_up_at_us;
-    bool noisy;               /* garbage burst */
-    uint64_t noisy_until_us;
+    uart_ring_t ring;
     /* The scene's scans handed out, in order. */
     sent_t sent[SENT_LOG];
+    fault_t fault;
+    counters_t c;
+    uint64_t now;
+    uint64_t line_up_at_us;
+    uint64_t noisy_until_us;
+    uint64_t last_taken_us;
+    uint64_t next_fault_us;
+    size_t line_len;
+    lms_baud_t host_baud;
+    uint32_t rnd;             /* the schedule's PRNG */
+    uint32_t noise;           /* the line noise's PRNG */
     uint32_t sent_count;      /* entries ever written */
     uint32_t match_pos;       /* next entry a taken scan may be */
-    bool asked;
     /* Taken scans and their lines. */
     uint32_t taken;
-    uint64_t last_taken_us;
-    bool have_ref;
     uint32_t ref_scene;       /* the scan the next motion starts from */
     uint32_t cur_scene;
-    bool in_recovering;
     uint32_t search_start;
-    char line[LINE_MAX_CHARS];
-    size_t line_len;
-    bool header_seen;
     /* Faults: the kinds in a shuffled bag, refilled when empty. */
-    fault_kind_t bag[F_KINDS];
     uint32_t bag_left;
-    fault_t fault;
-    uint64_t next_fault_us;
-    counters_t c;
+    fault_kind_t bag[F_KINDS];
+    uint32_t print_lines;     /* lines to print (after an unmatched scan) */
+    bool line_down;           /* a hang-up: nothing passes */
+    bool noisy;               /* garbage burst */
+    bool asked;
+    bool have_ref;
+    bool in_recovering;
+    bool header_seen;
+    char line[LINE_MAX_CHARS];
 } soak_t;
 
 static soak_t S;
@@ -638,8 +640,21 @@ static void on_scan(const ego_live_slot_t *slot)
         }
         lost += e->sent ? 1u : 0u;
     }
+    /* A damaged telegram that passed the CRC: most likely the first scan
+     * sent after the last match. Its line is still checked, as that scan,
+     * and printed with the next one. */
     S.c.unmatched++;
+    if (!S.fault.active || (S.fault.kind != F_DAMAGE && S.fault.kind != F_GARBAGE)) {
+        S.c.unmatched_outside++;
+    }
     S.cur_scene = UINT32_MAX;
+    for (uint32_t i = S.match_pos; i < S.sent_count; i++) {
+        if (S.sent[i % SENT_LOG].sent) {
+            S.cur_scene = S.sent[i % SENT_LOG].scene;
+            break;
+        }
+    }
+    S.print_lines = 2u;
     fault_on_scan();
     printf("INFO soak: a scan taken at %.3f s is none of the scans sent (%s)\n",
            (double)S.now / SEC, S.fault.active ? k_fault_names[S.fault.kind] : "no fault");
@@ -659,6 +674,10 @@ static double csv_field(const char *line, unsigned n)
 static void check_line(const char *line)
 {
     S.c.lines++;
+    if (S.print_lines > 0u) {
+        S.print_lines--;
+        printf("INFO soak: line at %.3f s: %s\n", (double)S.now / SEC, line);
+    }
     const double dx = csv_field(line, 2u);
     const double dy = csv_field(line, 3u);
     const double dth = csv_field(line, 4u);
@@ -861,9 +880,10 @@ static void report_and_check(uint32_t seconds, uint32_t seed)
            ss->restarts_silence, ss->restarts_power_on, ss->restarts_link, S.c.restarts_outside,
            ls->gaps);
     printf("INFO soak: scans sent %u taken %u lost in faults %u lost outside %u in flight %u "
-           "unmatched %u; sim power_cycles %u baud_changes %u naks %u dropped %u flipped %u "
+           "unmatched %u (outside damage and noise %u); sim power_cycles %u baud_changes %u naks %u dropped %u flipped %u "
            "inserted %u; session scans %u bring_ups %u naks %u stray %u flushes %u\n",
            st->scans_sent, S.taken, S.c.lost_in_faults, S.c.lost_outside, tail, S.c.unmatched,
+           S.c.unmatched_outside,
            st->power_cycles, st->baud_changes, st->naks_injected, st->bytes_dropped,
            st->bytes_flipped, st->bytes_inserted, ss->scans, ss->bring_ups, ss->naks,
            ss->stray_telegrams, ss->flushes);
@@ -891,7 +911,9 @@ static void report_and_check(uint32_t seconds, uint32_t seed)
     TEST_ASSERT_EQUAL_UINT32(0u, S.c.restart_extra);
     TEST_ASSERT_EQUAL_UINT32(0u, S.c.restarts_outside);
     TEST_ASSERT_EQUAL_UINT32(0u, S.c.lost_outside);
-    TEST_ASSERT_EQUAL_UINT32(0u, S.c.unmatched);
+    /* A damaged telegram may pass the 16-bit CRC (about one in 65536):
+     * only where bytes are damaged, and its line is checked like any. */
+    TEST_ASSERT_EQUAL_UINT32(0u, S.c.unmatched_outside);
     TEST_ASSERT_EQUAL_UINT32(ss->restarts, ls->gaps);
     /* The last scan may wait in the mailbox; skipped ones were replaced
      * there (only under byte damage: see the header). */
@@ -899,7 +921,7 @@ static void report_and_check(uint32_t seconds, uint32_t seed)
     TEST_ASSERT_TRUE(ls->scans - ls->scans_skipped - S.taken <= 1u);
     TEST_ASSERT_EQUAL_UINT32(ls->scans_skipped, S.c.skipped_in_faults + S.c.skipped_outside);
     TEST_ASSERT_EQUAL_UINT32(0u, S.c.skipped_outside);
-    TEST_ASSERT_EQUAL_UINT32(st->scans_sent, S.taken + S.c.lost_in_faults + tail);
+    TEST_ASSERT_EQUAL_UINT32(st->scans_sent, S.taken - S.c.unmatched + S.c.lost_in_faults + tail);
     TEST_ASSERT_TRUE(tail <= 2u);
     TEST_ASSERT_EQUAL_UINT32(S.taken - 1u, S.c.lines);
     TEST_ASSERT_EQUAL_UINT32(0u, S.c.wrong_unflagged);
