@@ -162,6 +162,9 @@ typedef struct {
     uint32_t restart_missing; /* a fault that must restart did not */
     uint32_t restart_extra;   /* a fault that must not restart did */
     uint32_t restarts_outside;
+    uint32_t restart_faults;  /* recovered faults that needed a restart */
+    uint32_t restarts_in_faults; /* the restarts they took */
+    uint32_t restart_faults_twice; /* ... more than one */
     uint32_t lost_outside;
     uint32_t lost_in_faults;
     uint32_t unmatched;       /* taken scans that are no sent scan */
@@ -588,6 +591,11 @@ static void fault_on_scan(void)
                k_fault_names[f->kind], (double)f->start_us / SEC, f->param, (double)took / SEC);
     }
     const uint32_t r = restarts() - f->restarts_at_start;
+    if (f->needs_restart) {
+        S.c.restart_faults++;
+        S.c.restarts_in_faults += r;
+        S.c.restart_faults_twice += r > 1u ? 1u : 0u;
+    }
     if (f->no_restart && r > 0u) {
         S.c.restart_extra++;
         printf("INFO soak: %s at %.3f s (param %u) restarted the session %u times\n",
@@ -879,6 +887,9 @@ static void report_and_check(uint32_t seconds, uint32_t seed)
            faults, S.c.late, S.c.late_noise, S.c.restart_missing, S.c.restart_extra, ss->restarts,
            ss->restarts_silence, ss->restarts_power_on, ss->restarts_link, S.c.restarts_outside,
            ls->gaps);
+    printf("INFO soak: faults needing a restart %u, their restarts %u (%u faults took more than "
+           "one)\n",
+           S.c.restart_faults, S.c.restarts_in_faults, S.c.restart_faults_twice);
     printf("INFO soak: scans sent %u taken %u lost in faults %u lost outside %u in flight %u "
            "unmatched %u (outside damage and noise %u); sim power_cycles %u baud_changes %u naks %u dropped %u flipped %u "
            "inserted %u; session scans %u bring_ups %u naks %u stray %u flushes %u\n",
@@ -915,6 +926,8 @@ static void report_and_check(uint32_t seconds, uint32_t seed)
      * only where bytes are damaged, and its line is checked like any. */
     TEST_ASSERT_EQUAL_UINT32(0u, S.c.unmatched_outside);
     TEST_ASSERT_EQUAL_UINT32(ss->restarts, ls->gaps);
+    /* Every restart belongs to a fault that needs one. */
+    TEST_ASSERT_EQUAL_UINT32(ss->restarts, S.c.restarts_in_faults);
     /* The last scan may wait in the mailbox; skipped ones were replaced
      * there (only under byte damage: see the header). */
     TEST_ASSERT_EQUAL_UINT32(ss->scans, ls->scans);
