@@ -145,7 +145,6 @@ typedef struct {
     bool cleared;         /* nak, damage: the simulator's faults off again */
     uint64_t start_us;
     uint64_t end_us;      /* the fault's end (recovery counted from here) */
-    uint64_t set_us;
     uint32_t sent_at_set; /* scans_sent when it was set */
     uint32_t restarts_at_start;
     uint32_t param;       /* duration (us) or rate */
@@ -186,7 +185,6 @@ typedef struct {
 typedef struct {
     uint32_t scene;       /* absolute scene index */
     bool sent;
-    uint64_t asked_us;
 } sent_t;
 
 typedef struct {
@@ -201,7 +199,6 @@ typedef struct {
     uint64_t now;
     uint64_t line_up_at_us;
     uint64_t noisy_until_us;
-    uint64_t last_taken_us;
     uint64_t next_fault_us;
     size_t line_len;
     lms_baud_t host_baud;
@@ -341,7 +338,6 @@ static bool source(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t resolutio
     sent_t *e = &S.sent[S.sent_count % SENT_LOG];
     e->scene = scene;
     e->sent = false;
-    e->asked_us = S.now;
     S.sent_count++;
     const telegram_t *t = &g_lap[scene % LAP_SCANS];
     if (t->len > cap) {
@@ -460,7 +456,6 @@ static void inject(fault_kind_t kind)
     memset(f, 0, sizeof *f);
     f->kind = kind;
     f->active = true;
-    f->set_us = S.now;
     f->start_us = S.now;
     f->restarts_at_start = restarts();
     f->sent_at_set = lms_sim_stats(&S.sim)->scans_sent;
@@ -626,7 +621,6 @@ static void fault_give_up(void)
 static void on_scan(const ego_live_slot_t *slot)
 {
     S.taken++;
-    S.last_taken_us = S.now;
     uint32_t lost = 0u;
     for (uint32_t i = S.match_pos; i < S.sent_count && i < S.match_pos + MATCH_REACH; i++) {
         const sent_t *e = &S.sent[i % SENT_LOG];
