@@ -1065,6 +1065,32 @@ uint64_t lms_sim_next_event_us(const lms_sim_t *sim, uint64_t now_us)
     return at > now_us ? at : now_us;
 }
 
+/* AFTER more scans from now, as the absolute count check_scan_faults
+ * compares with (saturating; 0 stays "never"). */
+static uint32_t after_now(const lms_sim_t *s, uint32_t after)
+{
+    if (after == 0u) {
+        return 0u;
+    }
+    return after > UINT32_MAX - s->streamed ? UINT32_MAX : s->streamed + after;
+}
+
+void lms_sim_set_faults(lms_sim_t *sim, const lms_sim_faults_t *faults)
+{
+    if (sim == NULL || faults == NULL) {
+        return;
+    }
+    const uint32_t seed = sim->config.faults.seed;
+    sim->config.faults = *faults;
+    sim->config.faults.seed = seed;
+    sim->config.faults.silence_after_scans = after_now(sim, faults->silence_after_scans);
+    sim->config.faults.power_cycle_after_scans = after_now(sim, faults->power_cycle_after_scans);
+    sim->config.faults.hangup_after_scans = after_now(sim, faults->hangup_after_scans);
+    sim->silence_done = false;
+    sim->power_cycle_done = false;
+    sim->hangup_done = false;
+}
+
 lms_baud_t lms_sim_baud(const lms_sim_t *sim)
 {
     return sim != NULL ? sim->baud : LMS_BAUD_9600;

@@ -303,6 +303,15 @@ size_t lms_sim_transmit(lms_sim_t *sim, lms_baud_t host_baud, uint64_t now_us, u
  * long as it may. */
 uint64_t lms_sim_next_event_us(const lms_sim_t *sim, uint64_t now_us);
 
+/* Replaces the faults from now on, for a schedule of faults over a long
+ * run (the soak test: host_tests/unit/test_soak.c); lms_sim_init's are
+ * one-shot. The byte and NAK probabilities apply from the next byte or
+ * telegram. The one-shot events are armed afresh and counted from now:
+ * each fires after AFTER more streamed scans (0: never), once. An event
+ * already armed on a byte still on the wire fires as before. seed is
+ * ignored: the PRNG runs on. */
+void lms_sim_set_faults(lms_sim_t *sim, const lms_sim_faults_t *faults);
+
 /* The scanner's current line rate. */
 lms_baud_t lms_sim_baud(const lms_sim_t *sim);
 

@@ -1279,6 +1279,52 @@ static void test_lms_sim_hangup_fault_fires_once(void)
     TEST_ASSERT_TRUE(g.b0 > 15u);
 }
 
+/* lms_sim_set_faults re-arms the one-shot faults, counted from now, and
+ * replaces the probabilities (the soak's schedule, test_soak.c). */
+static void test_lms_sim_set_faults_rearms_from_now(void)
+{
+    lms_sim_config_t cfg;
+    config_with_source(&cfg);
+    cfg.faults.hangup_after_scans = 2u;
+    boot_fast(&cfg);
+    start_stream(LMS_MODE_STREAM_ALL);
+    pump_for(100u * MS);
+    TEST_ASSERT_TRUE(lms_sim_take_hangup(&g.sim));
+    pump_for(200u * MS);
+    TEST_ASSERT_FALSE(lms_sim_take_hangup(&g.sim)); /* one-shot */
+    lms_sim_faults_t f;
+    memset(&f, 0, sizeof f);
+    f.hangup_after_scans = 3u;
+    lms_sim_set_faults(&g.sim, &f);
+    const uint32_t b0 = g.b0;
+    while (g.b0 < b0 + 2u) {
+        pump_for(1u * MS);
+    }
+    TEST_ASSERT_FALSE(lms_sim_take_hangup(&g.sim));
+    while (g.b0 < b0 + 3u) {
+        pump_for(1u * MS);
+    }
+    TEST_ASSERT_TRUE(lms_sim_take_hangup(&g.sim));
+    pump_for(200u * MS);
+    TEST_ASSERT_FALSE(lms_sim_take_hangup(&g.sim));
+    /* NAK everything, then nothing again. */
+    f.hangup_after_scans = 0u;
+    f.nak_percent = 100u;
+    lms_sim_set_faults(&g.sim, &f);
+    lms_cmd_t c;
+    TEST_ASSERT_EQUAL_INT(LMS_OK, lms_cmd_status(&c, 0u));
+    send(&c);
+    pump_for(50u * MS);
+    TEST_ASSERT_EQUAL_UINT32(1u, lms_sim_stats(&g.sim)->naks_injected);
+    f.nak_percent = 0u;
+    lms_sim_set_faults(&g.sim, &f);
+    send(&c);
+    pump_for(50u * MS);
+    TEST_ASSERT_EQUAL_UINT32(1u, lms_sim_stats(&g.sim)->naks_injected);
+    lms_sim_set_faults(NULL, &f); /* ignored */
+    lms_sim_set_faults(&g.sim, NULL);
+}
+
 /* --- 6. fault specifications ------------------------------------------------ */
 
 static void test_lms_sim_parse_faults_good(void)
@@ -1499,6 +1545,7 @@ int main(void)
     RUN_TEST(test_lms_sim_silence_fault);
     RUN_TEST(test_lms_sim_power_cycle_fault);
     RUN_TEST(test_lms_sim_hangup_fault_fires_once);
+    RUN_TEST(test_lms_sim_set_faults_rearms_from_now);
     RUN_TEST(test_lms_sim_parse_faults_good);
     RUN_TEST(test_lms_sim_parse_faults_bad);
     RUN_TEST(test_lms_sim_survives_garbage_at_the_right_rate);
