@@ -546,5 +546,10 @@ int cmd_import_carmen(const cli_command_t *self, int argc, char **argv)
     if (rc == CLI_PARSED_HELP) {
         return CLI_EXIT_OK;
     }
-    return (rc == CLI_PARSED) ? import(&a) : rc;
+    if (rc != CLI_PARSED) {
+        return rc;
+    }
+    /* The parser leaves neither path NULL; said again for gcc's analyzer,
+     * which cannot see that cli_usage_error never returns CLI_PARSED. */
+    return (a.log_path != NULL && a.out_path != NULL) ? import(&a) : CLI_EXIT_USAGE;
 }
