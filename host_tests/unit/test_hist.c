@@ -491,6 +491,7 @@ static void test_hist_htah_skips_nothing_it_should_test(void)
                                 {8.0, -4.0, 200.0}};
     const double bands[] = {0.005, 0.02, 0.05, 0.2, 1.0};
     unsigned cases = 0u;
+    unsigned skip = 0u; /* cases left to skip before the next compared one */
     unsigned compared = 0u;
     uint32_t votes = 0u;
     for (unsigned pl = 0u; pl < 4u; pl++) {
@@ -498,9 +499,12 @@ static void test_hist_htah_skips_nothing_it_should_test(void)
             room_scan(places[pl][0], places[pl][1], places[pl][2], count, &g_current);
             for (unsigned bi = 0u; bi < 5u; bi++) {
                 for (uint8_t n = 1u; n <= EGO_TFIT_MAX_HALF_WINDOW; n += 2u) {
-                    if (cases++ % HTAH_CASE_EVERY != 0u) {
+                    cases++;
+                    if (skip > 0u) {
+                        skip--;
                         continue;
                     }
+                    skip = HTAH_CASE_EVERY - 1u;
                     ego_hist_params_t p;
                     ego_hist_defaults(&p);
                     p.kind = EGO_HIST_HTAH;
