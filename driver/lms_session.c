@@ -636,6 +636,29 @@ static void on_ack(lms_session_t *s, uint32_t now)
     }
 }
 
+/* Bytes that were no telegram, ACK or NAK: noise, or a reply damaged. */
+static uint32_t junk_bytes(const lms_framer_t *f)
+{
+    return f->stats.bytes_skipped + f->stats.crc_errors + f->stats.length_errors;
+}
+
+/* Junk on the line after the ACK: the reply may be what the noise ate (or
+ * the 06 was noise). Waiting out reply_timeout_us (3.5 s, for mode changes)
+ * would hold recovery for seconds: the command goes again ack_timeout_us
+ * after the first junk, a send of its retries (a mode change still under
+ * way answers the first send; its A0 is taken in either phase). Not for
+ * the EEPROM write, which a second send would start again. */
+static void on_junk_awaiting_reply(lms_session_t *s, uint32_t now)
+{
+    if (s->phase != PH_REPLY || s->state == LMS_SESSION_WRITE_CONFIG) {
+        return;
+    }
+    const uint32_t soon = now + s->config.ack_timeout_us;
+    if (!reached(soon, s->deadline_us)) {
+        s->deadline_us = soon;
+    }
+}
+
 static void on_nak(lms_session_t *s, uint32_t now)
 {
     s->stats.naks++;
@@ -724,6 +747,7 @@ lms_session_event_t lms_session_feed(lms_session_t *s, const uint8_t *bytes, siz
     lms_session_event_t ev = take_report(s);
     if (ev == LMS_SESSION_EV_NONE && bytes != NULL && len > 0u) {
         s->last_byte_us = now_us;
+        const uint32_t junk_before = junk_bytes(&s->framer);
         /* Bounded: each framer call either uses bytes or reports an event
          * from its buffer, which it can do at most LMS_FRAMER_BUF_SIZE times
          * before it needs bytes again. */
@@ -745,6 +769,9 @@ lms_session_event_t lms_session_feed(lms_session_t *s, const uint8_t *bytes, siz
             if (ev != LMS_SESSION_EV_NONE) {
                 break;
             }
+        }
+        if (junk_bytes(&s->framer) != junk_before) {
+            on_junk_awaiting_reply(s, now_us);
         }
     }
     if (consumed != NULL) {

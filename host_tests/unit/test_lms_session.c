@@ -637,6 +637,75 @@ static void test_garbage_in_every_state(void)
  * acks + naks + bytes_skipped + pending) holds across a change of the host
  * rate, which drops a half-received telegram: its bytes are skipped ones
  * (fuzz_session found them counted nowhere, issue 18). */
+/* A probe's ACK followed by junk instead of its A0 (line noise, or a 06 in
+ * the noise): the probe goes again ack_timeout_us after the junk, not after
+ * the 3.5 s reply timeout sized for mode changes; a quiet line after the
+ * ACK keeps the reply timeout. (The soak's line noise took up to 4.3 s to
+ * recover before.) */
+static uint32_t junk_rig_writes;
+
+static void junk_rig_write(void *ctx, const uint8_t *bytes, size_t len)
+{
+    (void)ctx;
+    (void)bytes;
+    (void)len;
+    junk_rig_writes++;
+}
+
+static void junk_rig_set_baud(void *ctx, lms_baud_t baud)
+{
+    (void)ctx;
+    (void)baud;
+}
+
+/* Polls the session from now_us until it writes; returns when it did. */
+static uint32_t junk_rig_until_write(lms_session_t *s, uint32_t now_us)
+{
+    const uint32_t before = junk_rig_writes;
+    for (int guard = 0; guard < 1000 && junk_rig_writes == before; guard++) {
+        (void)lms_session_poll(s, now_us);
+        if (junk_rig_writes == before) {
+            now_us += lms_session_wait_us(s, now_us);
+        }
+    }
+    TEST_ASSERT_EQUAL_UINT32(before + 1u, junk_rig_writes);
+    return now_us;
+}
+
+static void test_junk_after_an_ack_sends_again_soon(void)
+{
+    static lms_session_t s;
+    lms_session_config_t cc;
+    lms_session_defaults(&cc);
+    const lms_session_io_t io = {junk_rig_write, junk_rig_set_baud, NULL};
+    static const uint8_t ack[1] = {0x06u};
+    static const uint8_t junk[8] = {0x55u, 0xAAu, 0x13u, 0xF0u, 0x42u, 0x99u, 0x01u, 0x7Eu};
+    for (int with_junk = 0; with_junk <= 1; with_junk++) {
+        junk_rig_writes = 0u;
+        uint32_t now = 1000u;
+        TEST_ASSERT_EQUAL_INT(LMS_OK, lms_session_init(&s, &cc, &io, now));
+        now = junk_rig_until_write(&s, now); /* the first probe */
+        TEST_ASSERT_EQUAL_INT(LMS_SESSION_PROBE, lms_session_state(&s));
+        now += 5000u;
+        size_t used = 0u;
+        TEST_ASSERT_EQUAL_INT(LMS_SESSION_EV_NONE, lms_session_feed(&s, ack, sizeof ack, &used, now));
+        TEST_ASSERT_TRUE(lms_session_wait_us(&s, now) > cc.ack_timeout_us);
+        if (with_junk != 0) {
+            now += 1000u;
+            TEST_ASSERT_EQUAL_INT(LMS_SESSION_EV_NONE,
+                                  lms_session_feed(&s, junk, sizeof junk, &used, now));
+            TEST_ASSERT_EQUAL_UINT32(cc.ack_timeout_us, lms_session_wait_us(&s, now));
+        } else {
+            TEST_ASSERT_EQUAL_UINT32(cc.reply_timeout_us, lms_session_wait_us(&s, now));
+        }
+        const uint32_t sent_at = junk_rig_until_write(&s, now); /* the second probe */
+        TEST_ASSERT_EQUAL_UINT32(with_junk != 0 ? cc.ack_timeout_us : cc.reply_timeout_us,
+                                 sent_at - now);
+        TEST_ASSERT_EQUAL_INT(LMS_SESSION_PROBE, lms_session_state(&s));
+        TEST_ASSERT_EQUAL_UINT32(1u, lms_session_stats(&s)->reply_timeouts);
+    }
+}
+
 static void test_rate_change_keeps_framer_accounting(void)
 {
     lms_sim_config_t sc;
@@ -678,5 +747,6 @@ int main(void)
     RUN_TEST(test_addresses);
     RUN_TEST(test_garbage_in_every_state);
     RUN_TEST(test_rate_change_keeps_framer_accounting);
+    RUN_TEST(test_junk_after_an_ack_sends_again_soon);
     return UNITY_END();
 }
