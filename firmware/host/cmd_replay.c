@@ -716,6 +716,12 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         stream_frames_no_scan(self->name, shown, framed, st->decode_errors);
         return CLI_EXIT_RUNTIME;
     }
+    /* One scan gives no line (a motion needs two); the CSV is still a table
+     * with its header, as for any other stream. */
+    if (st->lines == 0u &&
+        fputs(config.latency ? EGO_LOOP_CSV_HEADER_LATENCY : EGO_LOOP_CSV_HEADER, stdout) == EOF) {
+        io.write_failed = 1;
+    }
     (void)fprintf(stderr,
                   "lmsego: replay: scans=%lu lines=%lu predicted=%lu restarts=%lu "
                   "decode_errors=%lu\n",

@@ -73,6 +73,8 @@ static const char help[] =
     "                -3 overflow, -4 low SNR, -5 channel error, -7 beyond the maximum\n"
     "                range, -8 another reserved code\n"
     "other telegrams (ACK, replies) and scans that do not decode are skipped\n"
+    "\nstderr: a line when the input ends inside a telegram (left out; a recording\n"
+    "  stopped by hand does: exit 0)\n"
     "\n" CLI_HELP_EXIT_STATUS;
 
 int cmd_scans(const cli_command_t *self, int argc, char **argv)
@@ -119,10 +121,14 @@ int cmd_scans(const cli_command_t *self, int argc, char **argv)
     if (!cli_finish_stdout()) {
         return CLI_EXIT_RUNTIME;
     }
+    const char *shown = (strcmp(path, "-") == 0) ? "<stdin>" : path;
     if (rc == CLI_EXIT_OK && printer.index == 0u) {
-        stream_frames_no_scan(self->name, (strcmp(path, "-") == 0) ? "<stdin>" : path,
-                              lms_framer_stats(&framer), printer.refused);
+        stream_frames_no_scan(self->name, shown, lms_framer_stats(&framer), printer.refused);
         return CLI_EXIT_RUNTIME;
+    }
+    if (rc == CLI_EXIT_OK && lms_framer_stats(&framer)->truncated > 0u) {
+        /* As replay says it: a recording stopped by hand usually ends so. */
+        cli_file_error("scans: ", shown, "ends inside a telegram, which is left out");
     }
     return rc;
 }

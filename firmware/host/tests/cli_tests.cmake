@@ -375,6 +375,22 @@ endif()
 lmsego_cli_test(replay_cut_in_a_telegram ARGS replay --budget none ${LMSEGO_CLI_DATA}/table2_cut.lms
     OPTIONS "-DSTDOUT_REGEX=\n1,0\\.026667,-2\\.4"
             "-DSTDERR_REGEX=^lmsego: replay: scans=2 lines=1 [^\n]*\nlmsego: replay: '.*table2_cut\\.lms': ends inside a telegram, which is left out [^\n]*\n$")
+# One scan (the first B0 of table2_cut.lms, 732 bytes): no line, but the
+# CSV header all the same (it printed nothing before), exit 0.
+lmsego_cli_test(replay_one_scan ARGS replay ${LMSEGO_CLI_DATA}/one_scan.lms
+    OPTIONS "-DSTDOUT_REGEX=^scan,time_s,[^\n]*,cov_tt\n$"
+            "-DSTDERR_REGEX=^lmsego: replay: scans=1 lines=0 [^\n]*\n$")
+# time_s is a 32-bit microsecond clock: 431 scans 10 s apart wrap it; said
+# once on stderr, and the motions (zero: the same scan) are not affected.
+add_test(NAME cli_replay_time_wraps
+    COMMAND sh -c "i=0; while [ $i -lt 431 ]; do cat \"$1\"; i=$((i + 1)); done | \"$0\" replay --period 10 - 2>&1 >/dev/null; echo rc=$?"
+            $<TARGET_FILE:lmsego> ${LMSEGO_CLI_DATA}/one_scan.lms)
+set_tests_properties(cli_replay_time_wraps PROPERTIES LABELS "cli" TIMEOUT 60
+    PASS_REGULAR_EXPRESSION
+    "^lmsego: replay: scans=431 lines=430 predicted=0 restarts=0 decode_errors=0\nlmsego: replay: time_s went back to 0 after 4294\\.967296 s [^\n]*\nrc=0\n$")
+lmsego_cli_test(scans_cut_in_a_telegram ARGS scans ${LMSEGO_CLI_DATA}/table2_cut.lms
+    OPTIONS "-DSTDOUT_REGEX=^0 10 361 [^\n]*\n1 10 361 [^\n]*\n$"
+            "-DSTDERR_REGEX=^lmsego: scans: '.*table2_cut\\.lms': ends inside a telegram, which is left out\n$")
 # --prior: a directory was read as an empty file, and a file without one
 # usable line ignored.
 lmsego_cli_test(replay_prior_directory ARGS replay --prior ${LMSEGO_CLI_DATA}
