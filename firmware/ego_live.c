@@ -43,6 +43,9 @@ static void session_write(void *ctx, const uint8_t *bytes, size_t len)
     live->hal.scanner_write(live->hal.ctx, bytes, len);
 }
 
+/* chunk_used and chunk_len index the chunk. */
+_Static_assert(EGO_LIVE_CHUNK <= 255u, "ego_live_t's chunk_used and chunk_len are 8-bit");
+
 /* The session's "set the rate and drop what was buffered": the ring is
  * emptied before the UART changes, so that a byte caught between the two
  * is old-rate noise the framer skips rather than a good new-rate byte
@@ -175,29 +178,34 @@ static void on_event(ego_live_t *live, lms_session_event_t ev, uint32_t now_us)
     }
 }
 
-/* Feeds chunk[0..n), which arrived by arrival_us, handling every event. */
-static void feed_chunk(ego_live_t *live, size_t n, uint32_t arrival_us)
+/* Feeds chunk[chunk_used .. chunk_len), which arrived by chunk_arrival_us,
+ * handling every event; with one_scan_per_service it stops after a scan,
+ * the rest kept for the next service. Returns whether a scan came. */
+static bool feed_chunk(ego_live_t *live)
 {
-    size_t off = 0u;
-    live->stats.bytes += (uint32_t)n;
+    const uint32_t arrival_us = live->chunk_arrival_us;
+    const uint32_t scans_before = live->stats.scans;
     /* Bounded: each feed uses bytes or reports an event, and the session
      * reports at most LMS_FRAMER_BUF_SIZE events from its framer's buffer
      * plus its four pending reports without new bytes. */
-    for (size_t guard = 0u; guard <= n + LMS_FRAMER_BUF_SIZE + 4u; guard++) {
+    for (size_t guard = 0u; guard <= EGO_LIVE_CHUNK + LMS_FRAMER_BUF_SIZE + 4u; guard++) {
         size_t used = 0u;
         const lms_session_event_t ev =
-            lms_session_feed(&live->session, &live->chunk[off], n - off, &used, arrival_us);
-        off += used;
+            lms_session_feed(&live->session, &live->chunk[live->chunk_used],
+                             (size_t)live->chunk_len - live->chunk_used, &used, arrival_us);
+        live->chunk_used = (uint8_t)(live->chunk_used + used);
         /* Before the event: a scan's bytes count towards its own time. */
         ego_timing_bytes(&live->loop.timing, used, arrival_us, line_baud(live));
         if (ev == LMS_SESSION_EV_NONE) {
             break;
         }
         on_event(live, ev, arrival_us);
-        if (live->status != EGO_LIVE_RUNNING) {
+        if (live->status != EGO_LIVE_RUNNING ||
+            (live->one_scan_per_service && live->stats.scans != scans_before)) {
             break;
         }
     }
+    return live->stats.scans != scans_before;
 }
 
 /* The session's timers at now_us, every event handled. */
@@ -223,23 +231,25 @@ static void service(ego_live_t *live)
         live->stop_requested = false;
         lms_session_stop(&live->session, live->hal.now_us(live->hal.ctx));
     }
-    /* Only what is waiting now: a babbling line cannot starve the timers. */
+    /* What an earlier service left of its chunk first, then only what is
+     * waiting now: a babbling line cannot starve the timers. */
+    bool fed = live->chunk_used < live->chunk_len;
+    if (fed && feed_chunk(live) && live->one_scan_per_service) {
+        return;
+    }
     size_t budget = uart_ring_count(live->rx);
-    bool fed = false;
-    uint32_t last_arrival_us = 0u;
     while (budget > 0u && live->status == EGO_LIVE_RUNNING) {
-        uint32_t arrival_us = 0u;
         const size_t want = budget < sizeof live->chunk ? budget : sizeof live->chunk;
-        const size_t n = uart_ring_read(live->rx, live->chunk, want, &arrival_us);
+        const size_t n = uart_ring_read(live->rx, live->chunk, want, &live->chunk_arrival_us);
         if (n == 0u) {
             break; /* discarded at a rate change */
         }
         budget -= n;
         fed = true;
-        last_arrival_us = arrival_us;
-        const uint32_t scans_before = live->stats.scans;
-        feed_chunk(live, n, arrival_us);
-        if (live->one_scan_per_service && live->stats.scans != scans_before) {
+        live->stats.bytes += (uint32_t)n;
+        live->chunk_used = 0u;
+        live->chunk_len = (uint8_t)n;
+        if (feed_chunk(live) && live->one_scan_per_service) {
             return; /* the timers when a service drains the ring */
         }
     }
@@ -250,7 +260,7 @@ static void service(ego_live_t *live)
      * spent a while on the scans, and what came meanwhile waits in the
      * ring or the UART for the next step). Silence is judged by a step
      * that found nothing waiting, at most one step later. */
-    run_timers(live, fed ? last_arrival_us : live->hal.now_us(live->hal.ctx));
+    run_timers(live, fed ? live->chunk_arrival_us : live->hal.now_us(live->hal.ctx));
 }
 
 void ego_live_service(ego_live_t *live)
@@ -303,7 +313,7 @@ ego_live_status_t ego_live_step(ego_live_t *live)
 uint32_t ego_live_wait_us(const ego_live_t *live)
 {
     if (live->status != EGO_LIVE_RUNNING || uart_ring_count(live->rx) > 0u ||
-        live->stop_requested ||
+        live->chunk_used < live->chunk_len || live->stop_requested ||
         ((unsigned)atomic_load(&live->middle) & EGO_LIVE_FRESH) != 0u) {
         return 0u;
     }
@@ -316,6 +326,7 @@ void ego_live_link_lost(ego_live_t *live)
         return;
     }
     live->stats.bytes_discarded += (uint32_t)uart_ring_discard(live->rx);
+    live->chunk_len = live->chunk_used; /* what a service left: from before too */
     lms_session_link_lost(&live->session, live->hal.now_us(live->hal.ctx));
 }
 

@@ -81,8 +81,9 @@ typedef struct {
      * the mailbox (the rest waits in the ring; the timers run when a
      * service drains it), so a consumer that keeps its own queue takes
      * every scan (ego_live_take) before a newer one could replace it:
-     * `lmsego run`. A scan needs more than one ring read, so a service
-     * never puts two. Default off. */
+     * `lmsego run`. A service puts at most one: a chunk that completes
+     * two (the framer finds a whole telegram again in the bytes it held
+     * for a damaged one) keeps the rest for the next. Default off. */
     bool one_scan_per_service;
 } ego_live_config_t;
 
@@ -139,12 +140,17 @@ typedef struct {
      * atomic exchange only, so the two never touch the same slot. */
     bool deferred;
     bool one_scan_per_service;
+    /* chunk[chunk_used .. chunk_len) arrived by chunk_arrival_us and waits
+     * for the next service: one_scan_per_service stopped at a scan there. */
+    uint8_t chunk_used;
+    uint8_t chunk_len;
     ego_live_slot_t slot[EGO_LIVE_SLOTS];
     atomic_uint_fast8_t middle;
     uint8_t write_slot;
     uint8_t read_slot;
     bool gap_pending;         /* producer: a restart since the last scan published */
     volatile bool stop_requested;
+    uint32_t chunk_arrival_us;
 } ego_live_t;
 
 /* Starts the session now (hal.now_us) and the loop. rx is the ring the

@@ -92,18 +92,23 @@ lmsego_cli_test(vectors_scans_mode_04 ARGS scans --mode=0x04 ${LMSEGO_CLI_DATA}/
     OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_CLI_DATA}/vectors_mode04.scans -DEXPECT_STDERR_EMPTY=ON)
 
 # --- shipped recordings against lmsgen's ground truth ------------------
+# The faults recording ends inside a telegram (one of its faults): scans
+# says so, the clean one says nothing.
+set(LMSEGO_SCANS_STDERR_room_181_mm -DEXPECT_STDERR_EMPTY=ON)
+set(LMSEGO_SCANS_STDERR_room_361_cm_faults
+    "-DSTDERR_REGEX=^lmsego: scans: '[^']*': ends inside a telegram, which is left out\n$")
 foreach(rec room_181_mm room_361_cm_faults)
     lmsego_cli_test(${rec}_stats ARGS stats ${LMSEGO_RECORDINGS}/${rec}.lms
         OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.stats -DEXPECT_STDERR_EMPTY=ON)
     lmsego_cli_test(${rec}_scans ARGS scans ${LMSEGO_RECORDINGS}/${rec}.lms
-        OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans -DEXPECT_STDERR_EMPTY=ON)
+        OPTIONS -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans ${LMSEGO_SCANS_STDERR_${rec}})
     # The same through stdin.
     lmsego_cli_test(${rec}_stats_stdin ARGS stats -
         OPTIONS -DSTDIN_FILE=${LMSEGO_RECORDINGS}/${rec}.lms
                 -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.stats -DEXPECT_STDERR_EMPTY=ON)
     lmsego_cli_test(${rec}_scans_stdin ARGS scans --mode 00 -
         OPTIONS -DSTDIN_FILE=${LMSEGO_RECORDINGS}/${rec}.lms
-                -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans -DEXPECT_STDERR_EMPTY=ON)
+                -DEXPECT_STDOUT_FILE=${LMSEGO_RECORDINGS}/${rec}.scans ${LMSEGO_SCANS_STDERR_${rec}})
 endforeach()
 
 # Issue 18's adversarial case streams: the decoder against lmsgen's truth (the
