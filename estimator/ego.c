@@ -53,6 +53,8 @@ void ego_reset(ego_state_t *state)
     state->have_last = false;
     state->last = 0u;
     state->last_time_us = 0u;
+    state->held_time_us = 0u;
+    state->slow_lines = 0u;
     memset(&state->motion, 0, sizeof state->motion);
     state->motion_dt_us = 0u;
     state->predictable = false;
@@ -146,7 +148,7 @@ static uint32_t horizon_of(const ego_state_t *state, uint32_t dt_us)
     return (k < 1u) ? 1u : (k > MAX_HORIZON) ? MAX_HORIZON : (uint32_t)k;
 }
 
-static void set_velocities(ego_output_t *out)
+EGO_NOINLINE static void set_velocities(ego_output_t *out)
 {
     const int64_t dt = out->dt_us;
     out->vx = fx_sat_s32((int64_t)out->pose.x * US_PER_S / dt);
@@ -1069,6 +1071,66 @@ static void judge_dynamics(ego_state_t *state, bool matched, uint32_t time_us, e
     out->flags |= state->suspect ? EGO_FLAG_SUSPECT : 0u;
 }
 
+/* Standing still, or creeping: the last scan kept stays the reference
+ * (the scan held) while the tracked motion from it stays small, and each
+ * line is the difference of two registrations against it (issue 17).
+ * Scan to scan, a car creeping off (0.4 m/s: 5 mm a scan at 75 Hz) stays
+ * within the match's reach, and range noise does not average out: standing
+ * still in stopgo's queue drifted 0.09-0.27 m (2 m at 3 cm of noise);
+ * against the scan held, the car moves out of the fit while the static
+ * world stays put, and noise does not add up. A hold begins where the
+ * line's motion is within HOLD_SPEED (not a vehicle moving on at walking
+ * pace: its reference would lag), goes on while the motion from the scan
+ * held is within HOLD_DISTANCE and HOLD_TURN and the next scan is within
+ * HOLD_MAX_US of it (the reference stays recent), and ends at any line that
+ * is not a plain tracked match (a corridor's, a weak one's: their motion
+ * along the weak direction is the prediction's). */
+#define HOLD_SPEED FX_Q16_16_C(0.5)     /* m/s */
+#define HOLD_DISTANCE FX_Q16_16_C(0.05) /* m */
+#define HOLD_TURN FX_BAM32_DEG_C(0.2)
+#define HOLD_MAX_US 1000000u
+#define HOLD_SLOW_LINES 8u
+#define HOLD_RESIDUAL FX_Q16_16_C(0.02)
+#define HOLD_ENDS                                                                          \
+    (EGO_FLAG_FIRST | EGO_FLAG_TOO_FEW_POINTS | EGO_FLAG_PREDICTED | EGO_FLAG_RECOVERING | \
+     EGO_FLAG_RECOVERED | EGO_FLAG_APERTURE | EGO_FLAG_WEAK_ROTATION |                     \
+     EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED)
+
+static bool holding(const ego_state_t *state)
+{
+    return state->have_last && state->held_time_us != state->last_time_us;
+}
+
+static bool within(const ego_pose_t *p, int64_t reach)
+{
+    return p->x <= reach && p->x >= -reach && p->y <= reach && p->y >= -reach;
+}
+
+/* Does the scan just matched (motion from the last scan kept, a line
+ * flagged flags, predicted when had_prediction) hold the last scan kept
+ * for the next one? Counts the slow lines in a row too. */
+static bool holds(ego_state_t *state, const ego_pose_t *motion, uint16_t flags,
+                  fx_q16_16_t residual, bool tracked, const ego_pose_t *predicted,
+                  bool had_prediction, uint32_t time_us)
+{
+    /* A hold begins after HOLD_SLOW_LINES slow lines in a row (motion
+     * and prediction within HOLD_SPEED, not suspect): trackings that
+     * stopped short among cars (near-zero lines at 4 m/s) held the
+     * reference while the vehicle drove on (the traffic excerpt's scans
+     * 70-72: then 0.2 s of zeros). */
+    const int64_t slow = (int64_t)HOLD_SPEED * (time_us - state->last_time_us) / US_PER_S;
+    const bool slow_line = had_prediction && (flags & EGO_FLAG_SUSPECT) == 0u &&
+                           residual <= HOLD_RESIDUAL && within(motion, slow) &&
+                           within(predicted, slow);
+    state->slow_lines = !slow_line ? 0u : (state->slow_lines < 255u) ? (uint8_t)(state->slow_lines + 1u) : 255u;
+    const bool begins = state->slow_lines >= HOLD_SLOW_LINES;
+    const uint64_t next_us = (uint64_t)(time_us - state->last_time_us) +
+                             (time_us - state->previous_time_us); /* a scan on, as the last */
+    return tracked && (flags & HOLD_ENDS) == 0u && (holding(state) || begins) &&
+           within(motion, HOLD_DISTANCE) && turn_between(motion->theta, 0u) <= (int64_t)HOLD_TURN &&
+           next_us <= HOLD_MAX_US;
+}
+
 /* The scan in slot cur becomes the last one, with the motion out->pose
  * (over out->dt_us) from a tracked match, another match (matched) or
  * none. Whether that motion predicts the next one: a tracked motion does;
@@ -1079,8 +1141,25 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                     ego_output_t *out, bool tracked, bool matched,
                     const ego_pose_t *predicted, bool had_prediction)
 {
+    /* The registration's motion, from the last scan kept; the line is from
+     * the last scan processed (a scan held: the difference of the two). */
+    const ego_pose_t motion = out->pose;
+    const uint32_t motion_dt = out->dt_us;
+    if (holding(state)) {
+        out->pose = ego_pose_from(&state->held, &motion);
+        out->dt_us -= state->held_time_us - state->last_time_us;
+        set_velocities(out);
+        /* A step over twice the hold's speed: a vehicle that starts off
+         * leaves the hold's 5 cm before it reaches that (0.45 m/s at 2
+         * m/s^2); a fit that a car creeping off pulled along, letting go,
+         * does not. Suspect, as the dynamics check judges a line. */
+        const int64_t jump = 2 * (int64_t)HOLD_SPEED;
+        if (out->vx > jump || out->vx < -jump || out->vy > jump || out->vy < -jump) {
+            out->flags |= EGO_FLAG_SUSPECT;
+        }
+    }
     judge_dynamics(state, matched, time_us, out);
-    const bool close = matched && close_to(&out->pose, predicted, params);
+    const bool close = matched && close_to(&motion, predicted, params);
     if (!matched) {
         /* The line is the prediction: it says nothing new about the
          * motion, and a motion not known stays unknown (taken as a known
@@ -1101,16 +1180,24 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
     } else if (!tracked && had_prediction && !close && state->misses == 0u) {
         state->misses = 1u;
     } else {
-        state->motion = out->pose;
-        state->motion_dt_us = out->dt_us;
+        state->motion = motion;
+        state->motion_dt_us = motion_dt;
         state->predictable = tracked || close;
         state->misses = 0u;
     }
     state->lost = state->lost && !matched;
     state->along_predicted = matched && had_prediction && (out->flags & EGO_FLAG_APERTURE) != 0u;
     state->weak = matched && (out->flags & (EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED)) != 0u;
+    if (holds(state, &motion, out->flags, out->residual, tracked, predicted, had_prediction,
+              time_us)) {
+        state->held = motion;
+        state->held_time_us = time_us;
+        return;
+    }
     state->last = cur;
     state->last_time_us = time_us;
+    memset(&state->held, 0, sizeof state->held);
+    state->held_time_us = time_us;
 }
 
 /* Shares of the scan's points a search's answer must hold as inliers not
@@ -1356,6 +1443,7 @@ typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW, START_PRIOR
  * the usual 0.3 m first reach let such cars pull the fit onto them (a busy
  * road at 3 cm of noise stood still for 3.5 s). */
 #define NARROW_RADIUS FX_Q16_16_C(0.1)
+#define HOLD_REACH FX_Q16_16_C(0.03)
 
 /* The first reach of a prior's first tracking (START_PRIOR, a trial):
  * odometry's error, up to a tenth of the distance (a wheel slipping, a
@@ -1400,16 +1488,19 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, start, true,
                     &params->track);
     if (kind == START_NARROW) {
-        ego_track_narrow(&state->tracking, NARROW_RADIUS);
+        ego_track_narrow(&state->tracking, holding(state) ? HOLD_REACH : NARROW_RADIUS);
     } else if (kind == START_PRIOR) {
         ego_track_narrow(&state->tracking, prior_reach(start));
     }
     if (state->weak) {
         ego_track_hold_weak(&state->tracking);
     }
+    if (holding(state)) {
+        ego_track_wary(&state->tracking);
+    }
     const bool done = ego_track_step(&state->tracking, &state->work);
     STAGE(EGO_STAGE_OTHER);
-    state->unfinished_predicted = *predicted;
+    state->search.track_predicted = *predicted; /* the search is not active */
     if (!done) {
         return (kind == START_TRIAL || kind == START_NARROW || kind == START_PRIOR)
                    ? TRACK_FAILED
@@ -1697,6 +1788,8 @@ static void start_over(ego_state_t *state, uint8_t cur, uint32_t time_us, ego_ou
     state->have_last = true;
     state->last = cur;
     state->last_time_us = time_us;
+    state->held_time_us = time_us;
+    state->slow_lines = 0u;
     memset(&state->motion, 0, sizeof state->motion);
     state->motion_dt_us = 0u;
     state->predictable = false;
@@ -1738,14 +1831,21 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
     const ego_scan_t *current = &state->slot[cur];
     const ego_scan_t *last = &state->slot[state->last];
     out->dt_us = dt;
-    const ego_pose_t predicted = (prior != NULL) ? *prior : predict(state, dt);
+    /* While a scan is held the vehicle is slow (HOLD_SPEED: a scan's step
+     * is millimetres): it stays where the last scan processed was, as
+     * the prediction (the mean velocity since the held scan, scaled up,
+     * made the noise of a short hold's first registrations centimetres). */
+    const ego_pose_t predicted = (prior != NULL) ? *prior : holding(state) ? state->held : predict(state, dt);
     /* After a search that took several scans the interval spans them: the
      * search's motion predicts it, tracked whatever its length. */
     const bool after_search = state->bridge;
     state->bridge = false;
     const bool have_prediction =
         prior != NULL || (motion_known(state, dt) && (after_search || state->predictable));
-    const bool may_track = dt <= TRACK_INTERVAL_US || after_search;
+    const bool may_track = dt <= TRACK_INTERVAL_US || after_search || holding(state);
+    /* Against a scan held, the prediction is the motion to the last scan
+     * processed and one step on: it is judged over that step. */
+    const uint32_t step = holding(state) ? time_us - state->held_time_us : dt;
     /* A motion that predicts within a vehicle's reach (not after a search
      * or a suspect change) is tracked with the narrow first reach first; a
      * prior to its error (START_PRIOR), when that is within the narrow
@@ -1768,14 +1868,16 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         return;
     }
     bool from_along = false;
+    out->dt_us = step;
     const track_outcome_t tracked =
         may_track ? track_from_starts(state, params, cur, &track_predicted, have_prediction,
                                       after_search,
                                       !narrow              ? START_GOES_ON
                                       : (prior != NULL) ? START_PRIOR
                                                            : START_NARROW,
-                                      dt, &from_along, out)
+                                      step, &from_along, out)
                   : TRACK_FAILED;
+    out->dt_us = dt;
     if (tracked == TRACK_FOUND) {
         out->pose = scale_motion(&out->pose, span, dt);
         if (state->skew_100us != 0u) { /* de-skewed with predicted: the prior, or the last motion */
@@ -1806,11 +1908,12 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         state->predictable = true;
         return;
     }
+    const ego_pose_t unfinished = state->search.track_predicted; /* the last track()'s */
     search_begin(state, time_us, dt, &predicted, prior != NULL, have_prediction,
                  !ample(state));
     if (tracked == TRACK_UNFINISHED) {
         state->search.stage = SEARCH_TRACKING;
-        state->search.track_predicted = state->unfinished_predicted;
+        state->search.track_predicted = unfinished;
     }
     state->search.scans = 1u;
     if (search_run(state, params) || answers_now(params, &state->search)) {
@@ -1840,13 +1943,21 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
     } else {
         const uint8_t cur = state->have_last ? other_slot(state->last) : state->last;
         const uint32_t dt = time_us - state->last_time_us;
+        /* A prior is from the last scan processed: from a scan held, it
+         * follows the motion to that. */
+        const bool held = holding(state);
+        const uint32_t held_dt = state->held_time_us - state->last_time_us;
+        ego_pose_t prior_held = {0u, 0, 0};
+        if (prior != NULL && held) {
+            prior_held = ego_pose_then(&state->held, prior);
+        }
         /* De-skewed with the prior, else the last motion, if known over a
          * short interval (a speed at the scan's time; a keyframe's is an
          * average over seconds). */
         ego_skew_t skew = {{0u, 0, 0}, 0u};
-        if (state->have_last && prior != NULL && dt <= TRACK_INTERVAL_US) {
+        if (state->have_last && prior != NULL && dt - held_dt <= TRACK_INTERVAL_US) {
             skew.motion = *prior;
-            skew.dt_us = dt;
+            skew.dt_us = dt - held_dt;
         } else if (state->have_last && motion_known(state, dt) && state->motion_dt_us <= TRACK_INTERVAL_US) {
             skew.motion = state->motion;
             skew.dt_us = state->motion_dt_us;
@@ -1858,7 +1969,8 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
             start_over(state, cur, time_us, out);
         } else {
             out->points = state->slot[cur].count;
-            match_scan(state, params, cur, time_us, dt, prior, out);
+            match_scan(state, params, cur, time_us, dt,
+                       (prior != NULL && held) ? &prior_held : prior, out);
         }
     }
     finish_output(state, out, time_us);

@@ -224,7 +224,9 @@ typedef struct {
     uint32_t last_time_us;
     ego_pose_t motion;       /* the motion that predicts the next, over motion_dt_us */
     uint32_t motion_dt_us;
-    ego_pose_t unfinished_predicted; /* se->track_predicted of the next search */
+    ego_pose_t held;         /* while a standstill holds the last scan kept (slot last) as
+                                the reference: the last scan processed in its frame */
+    uint32_t held_time_us;   /* that scan's time; last_time_us when none is held */
     ego_pose_t before;       /* the motion before the last search, over before_dt_us
                                 (0: none): a start of the bridge after it */
     uint32_t before_dt_us;
@@ -255,6 +257,8 @@ typedef struct {
     bool have_reference;     /* a measured line within the last second */
     bool suspect;            /* the last measured motion was beyond the dynamics
                                 check's reach (EGO_FLAG_SUSPECT until one is back) */
+    uint8_t slow_lines;      /* slow lines in a row, up to 255: a standstill's hold
+                                begins after some (ego.c, holds) */
     ego_work_t work;         /* this scan's meter */
     union { /* one at a time */
         ego_track_run_t tracking;         /* the registration, or the coarse search's prober */

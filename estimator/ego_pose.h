@@ -25,4 +25,14 @@ static inline void ego_pose_apply(const ego_pose_t *pose, fx_q2_30_t s, fx_q2_30
     *qy = fx_add_q16(pose->y, fx_add_q16(fx_mul_q16_q30(px, s), fx_mul_q16_q30(py, c)));
 }
 
+/* Composition. The angles add modulo a turn; the translations are
+ * rounded to Q16.16 (nearest, ties away; the turn's sine and cosine are
+ * fx_sincos's) and saturate at its range. */
+
+/* a, then b (given in the frame a ends in): b in a's start frame. */
+ego_pose_t ego_pose_then(const ego_pose_t *a, const ego_pose_t *b);
+
+/* b in the frame a ends in (a and b given in one frame): inverse(a), then b. */
+ego_pose_t ego_pose_from(const ego_pose_t *a, const ego_pose_t *b);
+
 #endif /* EGO_POSE_H */

@@ -538,7 +538,8 @@ static void close_pass(ego_track_run_t *run, const ego_work_t *work)
      * one). */
     const uint32_t next_stride = pass_stride(run);
     const uint32_t next_points = (run->current->count + next_stride - 1u) / next_stride;
-    if (run->tracking && !ego_work_allows(work, next_points * pass_point_units(run) +
+    const uint32_t pass_units = next_points * pass_point_units(run);
+    if (run->tracking && !ego_work_allows(work, pass_units + (run->wary ? pass_units / 8u : 0u) +
                                                         EGO_COST_SOLVE + EGO_COST_COVARIANCE)) {
         run->converged = settled;
         run->finished = true;
@@ -637,6 +638,11 @@ void ego_track_hold_weak(ego_track_run_t *run)
 void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius)
 {
     run->radius = (radius < run->radius) ? radius : run->radius;
+}
+
+void ego_track_wary(ego_track_run_t *run)
+{
+    run->wary = true;
 }
 
 ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result)

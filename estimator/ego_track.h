@@ -107,6 +107,8 @@ typedef struct {
     bool failed;
     bool weak_rotation; /* the last pass's rotation was barely observed */
     bool cut;           /* ended by the meter before it settled (ego_track_resume) */
+    bool wary;          /* a pass begins only if an eighth more than its estimate is
+                           left (ego_track_wary) */
     bool weak_held;     /* the last motion had a weak direction: it stays weak until
                            its share is twice the threshold (ego_track_hold_weak) */
     ego_track_sums_t group[2];
@@ -144,6 +146,13 @@ bool ego_track_resume(ego_track_run_t *run);
 /* Narrows a run just started to radius for its first pass (the next
  * passes narrow from there as usual). */
 void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius);
+
+/* The run's passes each begin only where the meter holds an eighth more
+ * than the pass's estimate (its last pass's mean per point): against a
+ * scan held at a standstill (ego.c) a full pass's points, their
+ * segments' normals new to the run, cost more than the half pass's, and
+ * a pass that ran dry halfway left the standstill to a search. */
+void ego_track_wary(ego_track_run_t *run);
 
 /* The run starts from a motion whose weak direction was the prediction's:
  * a direction stays weak until its share of the information is twice the

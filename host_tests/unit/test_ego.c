@@ -718,6 +718,135 @@ static uint64_t track_to_end(const ego_pose_t *start, bool tracking, const ego_t
     return w.used;
 }
 
+/* The room with a box 2 half_m wide and 0.5 m deep whose face is front_m
+ * ahead of the scanner at the origin. */
+static void room_with_box(double half_m, double front_m)
+{
+    synth_wall_t walls[32];
+    unsigned n = 0u;
+    for (unsigned k = 0u; k < synth_room_walls; k++) {
+        walls[n++] = synth_room[k];
+    }
+    const double b = front_m + 0.5;
+    const double h = half_m;
+    const synth_wall_t box[4] = {{front_m, -h, front_m, h}, {front_m, h, b, h},
+                                 {b, h, b, -h}, {b, -h, front_m, -h}};
+    for (unsigned k = 0u; k < 4u; k++) {
+        walls[n++] = box[k];
+    }
+    synth_scan(walls, n, 0.0, 0.0, 0.0, 361u, LMS_UNIT_CM, &g_lms);
+}
+
+/* Standing still while someone 0.6 m wide walks off slowly ahead (0.4
+ * m/s, 5 mm a scan at 75 Hz: within any match's reach scan to scan):
+ * against the scan held they move out of the fit while the room stays
+ * put, so the lines add up to the pull of the slow lines before the hold
+ * began (10 mm; scan to scan they added up to 0.17 m in the 2 s). A car's
+ * width at 3 m ahead still pulls the fit along (docs/estimator.md,
+ * "Standing still"). */
+static void test_ego_standstill_holds_while_someone_walks_off(void)
+{
+    ego_defaults(&g_params);
+    g_params.work_per_s = 0u;
+    ego_reset(&g_state);
+    const uint32_t period = 13333u;
+    double sum_x = 0.0;
+    double sum_y = 0.0;
+    double worst = 0.0;
+    for (unsigned k = 0u; k < 150u; k++) {
+        room_with_box(0.3, 3.0 + 0.4 * (double)k * period * 1e-6);
+        ego_output_t out;
+        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
+                                                  1000000u + k * period, &out));
+        if (k == 0u) {
+            TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
+            continue;
+        }
+        const double x = fx_q16_16_to_double(out.pose.x);
+        sum_x += x;
+        sum_y += fx_q16_16_to_double(out.pose.y);
+        worst = (fabs(x) > worst) ? fabs(x) : worst;
+        TEST_ASSERT_EQUAL_UINT32(period, out.dt_us);
+    }
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "sum (%.5f, %.5f) m, worst line %.5f m", sum_x, sum_y, worst);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(sum_x) < 0.012 && fabs(sum_y) < 0.012, msg);
+    TEST_ASSERT_TRUE_MESSAGE(worst < 0.003, msg);
+}
+
+/* A line while a scan is held is judged as a line, from the last scan
+ * processed: standing still, then 2 cm at once (1.5 m/s in 13 ms: no
+ * vehicle) is suspect (the registration before slid, or this one did). */
+static void test_ego_a_jump_while_held_is_suspect(void)
+{
+    ego_defaults(&g_params);
+    g_params.work_per_s = 0u;
+    ego_reset(&g_state);
+    const uint32_t period = 13333u;
+    uint32_t t = 1000000u;
+    for (unsigned k = 0u; k < 20u; k++, t += period) {
+        const ego_output_t out = step(0.0, 0.0, 0.0, t);
+        TEST_ASSERT_EQUAL_HEX16((k == 0u) ? EGO_FLAG_FIRST : 0u, out.flags);
+    }
+    const ego_output_t out = step(0.02, 0.0, 0.0, t);
+    char msg[64];
+    (void)snprintf(msg, sizeof msg, "x %.5f m, flags %x", fx_q16_16_to_double(out.pose.x),
+                   (unsigned)out.flags);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 0.02) < 0.002, msg);
+    TEST_ASSERT_EQUAL_HEX16_MESSAGE(EGO_FLAG_SUSPECT, out.flags & EGO_FLAG_SUSPECT, msg);
+}
+
+/* Creeping through the room at 0.25 m/s (3.3 mm a scan): held scans give
+ * every line from the last scan processed, and the lines add up to the
+ * path through the holds' ends (one every 5 cm); with the true motion as
+ * a prior (given from the last scan processed) too. */
+static void slow_motion_adds_up(bool with_prior)
+{
+    ego_defaults(&g_params);
+    g_params.work_per_s = 0u;
+    ego_reset(&g_state);
+    const uint32_t period = 13333u;
+    const double speed = 0.25;
+    const double per_scan = speed * period * 1e-6;
+    const ego_pose_t prior = {0u, fx_q16_16_from_double(per_scan), 0};
+    double sum_x = 0.0;
+    double worst = 0.0;
+    for (unsigned k = 0u; k < 150u; k++) {
+        room_lms(per_scan * (double)k, 0.0, 0.0);
+        ego_output_t out;
+        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process_with_prior(&g_state, &g_params,
+                                                             synth_range(&g_lms),
+                                                             1000000u + k * period,
+                                                             with_prior ? &prior : NULL, &out));
+        if (k == 0u) {
+            continue;
+        }
+        const double x = fx_q16_16_to_double(out.pose.x);
+        sum_x += x;
+        const double err = fabs(x - per_scan);
+        worst = (err > worst) ? err : worst;
+        TEST_ASSERT_EQUAL_HEX16(0u, out.flags & (EGO_FLAG_SUSPECT | EGO_FLAG_PREDICTED));
+        TEST_ASSERT_EQUAL_UINT32(period, out.dt_us);
+    }
+    const double path = per_scan * 149.0;
+    char msg[96];
+    (void)snprintf(msg, sizeof msg, "sum %.5f m of %.5f, worst line %.5f m off", sum_x, path, worst);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(sum_x - path) < 0.002, msg);
+    TEST_ASSERT_TRUE_MESSAGE(worst < 0.002, msg);
+}
+
+static void test_ego_slow_motion_adds_up_through_the_holds(void)
+{
+    slow_motion_adds_up(false);
+}
+
+static void test_ego_slow_motion_with_a_prior_adds_up_through_the_holds(void)
+{
+    slow_motion_adds_up(true);
+}
+
 /* Tracking from a prediction that missed a turn of 20 deg gives up at its
  * first pass (under a quarter of its points matched), a search's
  * registration from the same start does not: its work goes on. */
@@ -838,5 +967,9 @@ int main(void)
     RUN_TEST(test_ego_ring_flags_its_rotation);
     RUN_TEST(test_ego_unbounded_answers_every_scan);
     RUN_TEST(test_ego_budget_recovers_from_a_jump_without_a_hole);
+    RUN_TEST(test_ego_standstill_holds_while_someone_walks_off);
+    RUN_TEST(test_ego_a_jump_while_held_is_suspect);
+    RUN_TEST(test_ego_slow_motion_adds_up_through_the_holds);
+    RUN_TEST(test_ego_slow_motion_with_a_prior_adds_up_through_the_holds);
     return UNITY_END();
 }

@@ -11,6 +11,7 @@
 #include <stdio.h>
 
 #include "ego_fx.h"
+#include "test_rng.h"
 #include "unity.h"
 
 void setUp(void)
@@ -21,16 +22,12 @@ void tearDown(void)
 {
 }
 
-/* splitmix64, fixed seed: the same inputs on every run and every host. */
+/* splitmix64 (test_rng.h), fixed seed: the same inputs on every run and every host. */
 static uint64_t rng_state;
 
 static uint64_t rng_next(void)
 {
-    rng_state += 0x9E3779B97F4A7C15u;
-    uint64_t z = rng_state;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
+    return test_rng_next(&rng_state);
 }
 
 /* A random int64: uniform bits, or a random bit length, either sign. */

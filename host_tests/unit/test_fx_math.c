@@ -33,6 +33,7 @@
 #include <string.h>
 
 #include "ego_fx_math.h"
+#include "test_rng.h"
 #include "unity.h"
 
 static bool exhaustive;
@@ -55,16 +56,12 @@ void tearDown(void)
 {
 }
 
-/* splitmix64, fixed seed per test. */
+/* splitmix64 (test_rng.h), fixed seed per test. */
 static uint64_t rng_state;
 
 static uint64_t rng_next(void)
 {
-    rng_state += 0x9E3779B97F4A7C15u;
-    uint64_t z = rng_state;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
+    return test_rng_next(&rng_state);
 }
 
 #define TWO_PI_L 6.283185307179586476925286766559005768L
