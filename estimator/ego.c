@@ -1078,13 +1078,14 @@ static void judge_dynamics(ego_state_t *state, bool matched, uint32_t time_us, e
  * within the match's reach, and range noise does not average out: standing
  * still in stopgo's queue drifted 0.09-0.27 m (2 m at 3 cm of noise);
  * against the scan held, the car moves out of the fit while the static
- * world stays put, and noise does not add up. A hold begins where the
- * line's motion is within HOLD_SPEED (not a vehicle moving on at walking
- * pace: its reference would lag), goes on while the motion from the scan
- * held is within HOLD_DISTANCE and HOLD_TURN and the next scan is within
- * HOLD_MAX_US of it (the reference stays recent), and ends at any line that
- * is not a plain tracked match (a corridor's, a weak one's: their motion
- * along the weak direction is the prediction's). */
+ * world stays put, and noise does not add up. A hold begins after
+ * HOLD_SLOW_LINES slow lines in a row (within HOLD_SPEED: not a vehicle
+ * moving on at walking pace, whose reference would lag; fits within
+ * HOLD_RESIDUAL: a noisy fit is no reference), goes on while the motion
+ * from the scan held is within HOLD_DISTANCE and HOLD_TURN and the next
+ * scan is within HOLD_MAX_US of it (the reference stays recent), and ends
+ * at any line that is not a plain tracked match (a corridor's, a weak
+ * one's: their motion along the weak direction is the prediction's). */
 #define HOLD_SPEED FX_Q16_16_C(0.5)     /* m/s */
 #define HOLD_DISTANCE FX_Q16_16_C(0.05) /* m */
 #define HOLD_TURN FX_BAM32_DEG_C(0.2)
@@ -1113,11 +1114,12 @@ static bool holds(ego_state_t *state, const ego_pose_t *motion, uint16_t flags,
                   fx_q16_16_t residual, bool tracked, const ego_pose_t *predicted,
                   bool had_prediction, uint32_t time_us)
 {
-    /* A hold begins after HOLD_SLOW_LINES slow lines in a row (motion
-     * and prediction within HOLD_SPEED, not suspect): trackings that
-     * stopped short among cars (near-zero lines at 4 m/s) held the
-     * reference while the vehicle drove on (the traffic excerpt's scans
-     * 70-72: then 0.2 s of zeros). */
+    /* Slow lines in a row (motion and prediction within HOLD_SPEED, the
+     * fit within HOLD_RESIDUAL, not suspect): trackings that stopped short
+     * among cars (near-zero lines at 4 m/s) held the reference while the
+     * vehicle drove on (the traffic excerpt's scans 70-72: then 0.2 s of
+     * zeros), and at 3 cm of range noise the tracking against a held scan
+     * failed (searches at a standstill). */
     const int64_t slow = (int64_t)HOLD_SPEED * (time_us - state->last_time_us) / US_PER_S;
     const bool slow_line = had_prediction && (flags & EGO_FLAG_SUSPECT) == 0u &&
                            residual <= HOLD_RESIDUAL && within(motion, slow) &&
