@@ -1124,7 +1124,9 @@ static bool holds(ego_state_t *state, const ego_pose_t *motion, uint16_t flags,
     const bool slow_line = had_prediction && (flags & EGO_FLAG_SUSPECT) == 0u &&
                            residual <= HOLD_RESIDUAL && within(motion, slow) &&
                            within(predicted, slow);
-    state->slow_lines = !slow_line ? 0u : (state->slow_lines < 255u) ? (uint8_t)(state->slow_lines + 1u) : 255u;
+    state->slow_lines = !slow_line                 ? 0u
+                        : (state->slow_lines < 255u) ? (uint8_t)(state->slow_lines + 1u)
+                                                     : 255u;
     const bool begins = state->slow_lines >= HOLD_SLOW_LINES;
     const uint64_t next_us = (uint64_t)(time_us - state->last_time_us) +
                              (time_us - state->previous_time_us); /* a scan on, as the last */
@@ -1837,7 +1839,9 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
      * is millimetres): it stays where the last scan processed was, as
      * the prediction (the mean velocity since the held scan, scaled up,
      * made the noise of a short hold's first registrations centimetres). */
-    const ego_pose_t predicted = (prior != NULL) ? *prior : holding(state) ? state->held : predict(state, dt);
+    const ego_pose_t predicted = (prior != NULL) ? *prior
+                                 : holding(state) ? state->held
+                                                  : predict(state, dt);
     /* After a search that took several scans the interval spans them: the
      * search's motion predicts it, tracked whatever its length. */
     const bool after_search = state->bridge;
