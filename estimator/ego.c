@@ -148,7 +148,7 @@ static uint32_t horizon_of(const ego_state_t *state, uint32_t dt_us)
     return (k < 1u) ? 1u : (k > MAX_HORIZON) ? MAX_HORIZON : (uint32_t)k;
 }
 
-EGO_NOINLINE static void set_velocities(ego_output_t *out)
+static void set_velocities(ego_output_t *out)
 {
     const int64_t dt = out->dt_us;
     out->vx = fx_sat_s32((int64_t)out->pose.x * US_PER_S / dt);
@@ -1107,26 +1107,30 @@ static bool within(const ego_pose_t *p, int64_t reach)
     return p->x <= reach && p->x >= -reach && p->y <= reach && p->y >= -reach;
 }
 
-/* Does the scan just matched (motion from the last scan kept, a line
- * flagged flags, predicted when had_prediction) hold the last scan kept
- * for the next one? Counts the slow lines in a row too. */
-static bool holds(ego_state_t *state, const ego_pose_t *motion, uint16_t flags,
-                  fx_q16_16_t residual, bool tracked, const ego_pose_t *predicted,
-                  bool had_prediction, uint32_t time_us)
+/* Counts the slow lines in a row (motion from the last scan kept and its
+ * prediction within HOLD_SPEED, the fit within HOLD_RESIDUAL, not
+ * suspect) that a hold begins after: trackings that stopped short among
+ * cars (near-zero lines at 4 m/s) held the reference while the vehicle
+ * drove on (the traffic excerpt's scans 70-72: then 0.2 s of zeros), and at
+ * 3 cm of range noise the tracking against a held scan failed (searches at
+ * a standstill). */
+static void count_slow_lines(ego_state_t *state, const ego_pose_t *motion, const ego_output_t *out,
+                             const ego_pose_t *predicted, bool had_prediction, uint32_t time_us)
 {
-    /* Slow lines in a row (motion and prediction within HOLD_SPEED, the
-     * fit within HOLD_RESIDUAL, not suspect): trackings that stopped short
-     * among cars (near-zero lines at 4 m/s) held the reference while the
-     * vehicle drove on (the traffic excerpt's scans 70-72: then 0.2 s of
-     * zeros), and at 3 cm of range noise the tracking against a held scan
-     * failed (searches at a standstill). */
     const int64_t slow = (int64_t)HOLD_SPEED * (time_us - state->last_time_us) / US_PER_S;
-    const bool slow_line = had_prediction && (flags & EGO_FLAG_SUSPECT) == 0u &&
-                           residual <= HOLD_RESIDUAL && within(motion, slow) &&
+    const bool slow_line = had_prediction && (out->flags & EGO_FLAG_SUSPECT) == 0u &&
+                           out->residual <= HOLD_RESIDUAL && within(motion, slow) &&
                            within(predicted, slow);
     state->slow_lines = !slow_line                 ? 0u
                         : (state->slow_lines < 255u) ? (uint8_t)(state->slow_lines + 1u)
                                                      : 255u;
+}
+
+/* Does the scan just matched (motion from the last scan kept, a line
+ * flagged flags) hold the last scan kept for the next one? */
+static bool holds(const ego_state_t *state, const ego_pose_t *motion, uint16_t flags, bool tracked,
+                  uint32_t time_us)
+{
     const bool begins = state->slow_lines >= HOLD_SLOW_LINES;
     const uint64_t next_us = (uint64_t)(time_us - state->last_time_us) +
                              (time_us - state->previous_time_us); /* a scan on, as the last */
@@ -1192,16 +1196,15 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
     state->lost = state->lost && !matched;
     state->along_predicted = matched && had_prediction && (out->flags & EGO_FLAG_APERTURE) != 0u;
     state->weak = matched && (out->flags & (EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED)) != 0u;
-    if (holds(state, &motion, out->flags, out->residual, tracked, predicted, had_prediction,
-              time_us)) {
+    count_slow_lines(state, &motion, out, predicted, had_prediction, time_us);
+    if (holds(state, &motion, out->flags, tracked, time_us)) {
         state->held = motion;
         state->held_time_us = time_us;
         return;
     }
     state->last = cur;
     state->last_time_us = time_us;
-    memset(&state->held, 0, sizeof state->held);
-    state->held_time_us = time_us;
+    state->held_time_us = time_us; /* none held: state->held is not read */
 }
 
 /* Shares of the scan's points a search's answer must hold as inliers not
@@ -1447,6 +1450,9 @@ typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW, START_PRIOR
  * the usual 0.3 m first reach let such cars pull the fit onto them (a busy
  * road at 3 cm of noise stood still for 3.5 s). */
 #define NARROW_RADIUS FX_Q16_16_C(0.1)
+/* The narrow first reach against a scan held: the vehicle stands or
+ * crawls, so a car creeping off 3 cm from where the held scan saw it stays
+ * out of the first pass. */
 #define HOLD_REACH FX_Q16_16_C(0.03)
 
 /* The first reach of a prior's first tracking (START_PRIOR, a trial):
@@ -1874,6 +1880,8 @@ static void match_scan(ego_state_t *state, const ego_params_t *params, uint8_t c
         return;
     }
     bool from_along = false;
+    /* The registrations judge the prediction (output_match) over out's
+     * interval: the step; the motion found spans dt. */
     out->dt_us = step;
     const track_outcome_t tracked =
         may_track ? track_from_starts(state, params, cur, &track_predicted, have_prediction,
@@ -1951,11 +1959,12 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         const uint32_t dt = time_us - state->last_time_us;
         /* A prior is from the last scan processed: from a scan held, it
          * follows the motion to that. */
-        const bool held = holding(state);
         const uint32_t held_dt = state->held_time_us - state->last_time_us;
         ego_pose_t prior_held = {0u, 0, 0};
-        if (prior != NULL && held) {
+        const ego_pose_t *prior_from_kept = prior;
+        if (prior != NULL && holding(state)) {
             prior_held = ego_pose_then(&state->held, prior);
+            prior_from_kept = &prior_held;
         }
         /* De-skewed with the prior, else the last motion, if known over a
          * short interval (a speed at the scan's time; a keyframe's is an
@@ -1975,8 +1984,7 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
             start_over(state, cur, time_us, out);
         } else {
             out->points = state->slot[cur].count;
-            match_scan(state, params, cur, time_us, dt,
-                       (prior != NULL && held) ? &prior_held : prior, out);
+            match_scan(state, params, cur, time_us, dt, prior_from_kept, out);
         }
     }
     finish_output(state, out, time_us);

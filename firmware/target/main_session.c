@@ -293,6 +293,17 @@ void target_tick(void)
 
 /* --- Measuring and reporting ---------------------------------------------- */
 
+/* Records one scan's instructions. */
+static void image_record(uint64_t insns_spent)
+{
+    const uint64_t d = insns_spent / TARGET_INSNS_PER_TICK;
+    const uint32_t n = d > UINT32_MAX ? UINT32_MAX : (uint32_t)d;
+    if (image_measured < MAX_MEASURED) {
+        insns[image_measured++] = n;
+    }
+    image_insns_max = n > image_insns_max ? n : image_insns_max;
+}
+
 #if !defined(SESSION_INTERRUPTS)
 /* Called after every line: the core's instructions since the last line. */
 static void image_observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
@@ -302,13 +313,8 @@ static void image_observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_
     (void)time_us;
     (void)out;
     const uint64_t in_loop = image_loop_insns + (target_instructions() - image_step_start);
-    const uint64_t d = (in_loop - image_last_mark) / TARGET_INSNS_PER_TICK;
-    const uint32_t n = d > UINT32_MAX ? UINT32_MAX : (uint32_t)d;
+    image_record(in_loop - image_last_mark);
     image_last_mark = in_loop;
-    if (image_measured < MAX_MEASURED) {
-        insns[image_measured++] = n;
-    }
-    image_insns_max = n > image_insns_max ? n : image_insns_max;
 }
 #endif
 
@@ -434,12 +440,7 @@ int main(void)
            target_instructions() < RUN_LIMIT_INSNS) {
         const uint64_t t0 = target_instructions();
         if (ego_live_estimate(&live)) {
-            const uint64_t d = (target_instructions() - t0) / TARGET_INSNS_PER_TICK;
-            const uint32_t n = d > UINT32_MAX ? UINT32_MAX : (uint32_t)d;
-            if (image_measured < MAX_MEASURED) {
-                insns[image_measured++] = n;
-            }
-            image_insns_max = n > image_insns_max ? n : image_insns_max;
+            image_record(target_instructions() - t0);
         }
     }
     irq_ready = false;
