@@ -1960,12 +1960,10 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         /* A prior is from the last scan processed: from a scan held, it
          * follows the motion to that. */
         const uint32_t held_dt = state->held_time_us - state->last_time_us;
-        ego_pose_t prior_held = {0u, 0, 0};
-        const ego_pose_t *prior_from_kept = prior;
-        if (prior != NULL && holding(state)) {
-            prior_held = ego_pose_then(&state->held, prior);
-            prior_from_kept = &prior_held;
-        }
+        const bool carry = prior != NULL && holding(state);
+        const ego_pose_t none = {0u, 0, 0};
+        const ego_pose_t prior_held = carry ? ego_pose_then(&state->held, prior) : none;
+        const ego_pose_t *prior_from_kept = carry ? &prior_held : prior;
         /* De-skewed with the prior, else the last motion, if known over a
          * short interval (a speed at the scan's time; a keyframe's is an
          * average over seconds). */
