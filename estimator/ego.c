@@ -262,6 +262,11 @@ static bool half_accepted(const ego_params_t *params, const ego_itcp_result_t *r
 
 /* Is a better than b: registered, a balanced inlier share larger by more
  * than margin, then (equal shares, no margin) a smaller residual. */
+static bool rests_on_objects(const ego_itcp_result_t *r)
+{
+    return r->weak.kind == EGO_WEAK_OBJECTS;
+}
+
 static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_status_t sb,
                    const ego_itcp_result_t *b, fx_q2_30_t margin)
 {
@@ -742,9 +747,10 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
     }
     /* After a coarse pass, a best with the accept share over both groups
      * is enough: more candidates cost scans. */
-    const bool done = good_enough(params, se->best_status, &se->best, false) || agrees ||
-                      (se->with_coarse && (confirms_prediction(params, se, &se->best) ||
-                                           balanced_share(&se->best) >= params->accept_fraction));
+    const bool done = !rests_on_objects(&se->best) &&
+                      (good_enough(params, se->best_status, &se->best, false) || agrees ||
+                       (se->with_coarse && (confirms_prediction(params, se, &se->best) ||
+                                            balanced_share(&se->best) >= params->accept_fraction)));
     se->k++;
     if (!done && se->k >= light_width(se)) {
         se->k = 0u;
@@ -954,6 +960,14 @@ static bool output_match(const ego_params_t *params, ego_itcp_status_t st,
         }
         ego_cov_unmeasured_direction(&out->cov, &r->weak, lever);
     }
+    if (r->weak.kind == EGO_WEAK_OBJECTS) {
+        /* Measured on what may be moving (a platoon of trucks at our speed
+         * says we stand still): the motion as found, its translation's
+         * trust withdrawn (both axes: ego_cov_on_objects). */
+        out->flags |= EGO_FLAG_ON_OBJECTS;
+        ego_cov_unmeasured_along(&out->cov, FX_Q2_30_ONE, 0);
+        ego_cov_unmeasured_along(&out->cov, 0, FX_Q2_30_ONE);
+    }
     if (r->weak_rotation || r->weak.kind == EGO_WEAK_ROTATION) {
         /* Every surface faces the scanner (the spacing test: the
          * prediction's turn at any interval) or the eigen test found the
@@ -1022,7 +1036,9 @@ static uint64_t drifted_variance(const ego_velocity_ref_t *ref, uint32_t span_us
 
 /* Judges a matched line's translation against the filter and feeds it
  * in when it passes. A line whose translation is partly the prediction's
- * (aperture, weak) says nothing either way. */
+ * (aperture, weak) says nothing either way; one that rests on objects is
+ * judged, its covariance wide along them (a vague line moves the filter
+ * little). */
 static void judge_dynamics(ego_state_t *state, bool matched, uint32_t time_us, ego_output_t *out)
 {
     const uint16_t unmeasured = EGO_FLAG_APERTURE | EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED;
@@ -1196,6 +1212,9 @@ static void advance(ego_state_t *state, const ego_params_t *params, uint8_t cur,
     state->lost = state->lost && !matched;
     state->along_predicted = matched && had_prediction && (out->flags & EGO_FLAG_APERTURE) != 0u;
     state->weak = matched && (out->flags & (EGO_FLAG_WEAK_TRANSLATION | EGO_FLAG_WEAK_COUPLED)) != 0u;
+    /* Kept over lines without a match: they tell nothing of what the
+     * scene rests on. */
+    state->on_objects = matched ? (out->flags & EGO_FLAG_ON_OBJECTS) != 0u : state->on_objects;
     count_slow_lines(state, &motion, out, predicted, had_prediction, time_us);
     if (holds(state, &motion, out->flags, tracked, time_us)) {
         state->held = motion;
@@ -1505,6 +1524,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     if (state->weak) {
         ego_track_hold_weak(&state->tracking);
     }
+    ego_track_hold_objects(&state->tracking, state->on_objects);
     if (holding(state)) {
         ego_track_wary(&state->tracking);
     }

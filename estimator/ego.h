@@ -109,6 +109,12 @@
                                              (EGO_MAX_SPEED), or a search's answer fits
                                              under half the scan (under 0.7 with a turn
                                              no histogram proposed) */
+#define EGO_FLAG_ON_OBJECTS 0x1000u      /* the translation along a direction rests on
+                                             objects that may be moving: short segments
+                                             standing in front (the backs of vehicles,
+                                             people, posts) give nearly all of its
+                                             information (ego_cov_on_objects); measured,
+                                             1 m^2 more variance along it */
 
 typedef struct {
     ego_prep_params_t prep;
@@ -254,6 +260,8 @@ typedef struct {
     bool have_previous;      /* the time of the previous scan, for the budget */
     bool weak;               /* the last motion had a weak translation (its part the
                                 prediction's): tracking holds it weak (ego_track.h) */
+    bool on_objects;         /* the last measured motion rested on objects: tracking
+                                holds the test's share doubled (ego_track.h) */
     bool have_reference;     /* a measured line within the last second */
     bool suspect;            /* the last measured motion was beyond the dynamics
                                 check's reach (EGO_FLAG_SUSPECT until one is back) */

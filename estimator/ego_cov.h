@@ -96,8 +96,10 @@ typedef enum {
     EGO_WEAK_NONE = 0,
     EGO_WEAK_TRANSLATION = 1, /* a translation: a corridor's length */
     EGO_WEAK_ROTATION = 2,    /* the turn: every surface faces the scanner */
-    EGO_WEAK_COUPLED = 3      /* a translation with a turn: sliding along a ring
+    EGO_WEAK_COUPLED = 3,     /* a translation with a turn: sliding along a ring
                                  seen from off its centre while turning */
+    EGO_WEAK_OBJECTS = 4      /* the translation measured on objects that may be
+                                 moving (ego_cov_on_objects; no direction) */
 } ego_weak_kind_t;
 
 typedef struct {
@@ -120,6 +122,28 @@ fx_q16_16_t ego_cov_lever(fx_q16_16_t lever);
 
 void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, fx_q16_16_t lever,
                      fx_q2_30_t min_share, ego_weak_t *weak);
+
+/* Whether the translation rests on objects (issue 17: a platoon of trucks
+ * ahead at our speed looks like a world in which we stand still): along
+ * some direction u, the information of the matches that are not on
+ * objects (EGO_POINT_OBJECT), u^T (T - O) u, is below `share` of all of
+ * it, u^T T u. T and O are the translation parts (xx, xy, yy) of J J^T
+ * over every match and over those on objects, Q14 each (one match adds at
+ * most 2^14), up to 2^24. The test: (1 - share) T - O has a negative
+ * eigenvalue (its entries below 2^25, their products in int64), no square
+ * root. Without matches on objects it is positive semidefinite: a T that
+ * constrains a direction not at all (a corridor's length: the weak test's
+ * case) or none (no matches) does not rest on objects. Which direction it is is not worked out (the
+ * flash of a 64 KiB part): the caller takes the whole translation as
+ * unmeasured. Inline: its one caller is tracking's result. */
+FX_INLINE bool ego_cov_on_objects(const int32_t all[3], const int32_t objects[3], fx_q2_30_t share)
+{
+    int32_t m[3];
+    for (unsigned k = 0u; k < 3u; k++) {
+        m[k] = all[k] - objects[k] - (int32_t)(((int64_t)all[k] * share) / FX_Q2_30_ONE);
+    }
+    return m[0] < 0 || m[2] < 0 || (int64_t)m[0] * m[2] < (int64_t)m[1] * m[1];
+}
 
 /* A motion whose part along the weak direction is not the measurement's
  * (taken from the prediction): 1 m^2 (1 m of the lever in the turn) more

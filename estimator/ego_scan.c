@@ -111,7 +111,10 @@ static uint8_t link_between(const ego_prep_params_t *params, const sensor_point_
     if (!gap && is_occlusion(params, prev, here)) {
         link |= EGO_LINK_OCCLUSION;
     }
-    return (link != 0u) ? (uint8_t)(link | EGO_LINK_BREAK) : 0u;
+    if (link == 0u) {
+        return 0u;
+    }
+    return (uint8_t)(link | EGO_LINK_BREAK | ((here->r > prev->r) ? EGO_LINK_RISES : 0u));
 }
 
 /* Moves the point just written at index i back to its bearing's place
@@ -169,6 +172,33 @@ static void link_deskewed(ego_scan_t *scan, const ego_prep_params_t *params, uin
                 link_between(params, &prev, &here, step, (uint64_t)step > 3u * spacing_bam);
         }
         prev = here;
+    }
+}
+
+/* EGO_POINT_OBJECT on the points of every object (ego_scan.h): one pass
+ * over the segments, each point marked once. */
+static void mark_objects(ego_scan_t *scan)
+{
+    const int64_t extent_sq = (int64_t)EGO_OBJECT_EXTENT * EGO_OBJECT_EXTENT;
+    const uint32_t n = scan->count;
+    uint32_t first = 0u;
+    for (uint32_t i = 0u; i < n; i++) {
+        if (i + 1u < n && (scan->flags[i] & EGO_LINK_BREAK) == 0u) {
+            continue; /* within a segment */
+        }
+        /* Within the longest range of each other: no overflow. */
+        const int32_t dx = scan->x[i] - scan->x[first];
+        const int32_t dy = scan->y[i] - scan->y[first];
+        /* In front at both ends: beyond each a gap, or a point farther
+         * (before the first: not rising to it; after the last: rising). */
+        const bool object = first > 0u && i + 1u < n &&
+                            (int64_t)dx * dx + (int64_t)dy * dy <= extent_sq &&
+                            (scan->flags[first - 1u] & (EGO_LINK_GAP | EGO_LINK_RISES)) != EGO_LINK_RISES &&
+                            (scan->flags[i] & (EGO_LINK_GAP | EGO_LINK_RISES)) != 0u;
+        for (uint32_t k = first; object && k <= i; k++) {
+            scan->flags[k] |= EGO_POINT_OBJECT;
+        }
+        first = i + 1u;
     }
 }
 
@@ -290,6 +320,7 @@ ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const eg
     if (deskew) {
         link_deskewed(scan, params, step_bam);
     }
+    mark_objects(scan);
     if (scan->count > 0u) {
         /* rad Q30 = bam x 2 pi / 4 = bam x (pi / 2 x 2^29) / 2^29. */
         const uint64_t spacing_q30 = (step_bam * 843314857u) >> 29;

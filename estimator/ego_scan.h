@@ -37,8 +37,23 @@
 #define EGO_LINK_GAP 0x02u       /* beams without a point lie between them */
 #define EGO_LINK_JUMP 0x04u      /* range jump */
 #define EGO_LINK_OCCLUSION 0x08u /* occlusion edge (sharp angle) */
+#define EGO_LINK_RISES 0x40u     /* with a break: point i + 1 lies farther from the
+                                    sensor than point i */
 /* flags[i], set by tfit: point i has a robust tangent. */
 #define EGO_POINT_HAS_TANGENT 0x10u
+/* flags[i], set by the preparation: point i lies on an object, a segment
+ * no longer than EGO_OBJECT_EXTENT that stands in front of what the beams
+ * beyond both its ends see (nearer than the next point there, or the
+ * beams there gave none; not known at the first and last point, where a
+ * wall may be cut short; a tie before the first point counts as in
+ * front): the back of a vehicle, a person, a post. Such
+ * things may be moving; the trust test of ego_cov_on_objects weighs them
+ * apart (issue 17). */
+#define EGO_POINT_OBJECT 0x20u
+/* The longest object, m: the back of a truck (2.5 m) seen whole, with
+ * room for the range noise; a facade is longer, a gap between parked cars
+ * shorter. */
+#define EGO_OBJECT_EXTENT FX_Q16_16_C(3.0)
 
 typedef struct {
     uint16_t count;                      /* points, <= EGO_MAX_POINTS */

@@ -40,6 +40,7 @@ void ego_track_defaults(ego_track_params_t *params)
     params->main_tolerance = FX_BAM32_DEG_C(10.0);
     params->aperture_ratio = (fx_q2_30_t)(FX_Q2_30_ONE / 5);
     params->weak_share = (fx_q2_30_t)(FX_Q2_30_ONE / 50);
+    params->objects_share = (fx_q2_30_t)(FX_Q2_30_ONE / 5);
     params->min_matches = 10u;
     params->weighted = true;
 }
@@ -77,6 +78,7 @@ static uint8_t pass_stride(const ego_track_run_t *run)
 static void begin_pass(ego_track_run_t *run)
 {
     memset(run->group, 0, sizeof run->group);
+    memset(run->object_info, 0, sizeof run->object_info);
     run->pass_units = 0u;
     fx_sincos(run->pose.theta, &run->sn, &run->cs);
     run->stride = pass_stride(run);
@@ -358,6 +360,11 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, point_wor
     g->b[1] += (int64_t)ny * d;
     g->b[2] += (int64_t)arm * d;  /* Q32 m^2 */
     g->sum_sq += d_sq;
+    if ((c->flags[i] & EGO_POINT_OBJECT) != 0u) {
+        run->object_info[0] += (nx * nx) >> 14; /* Q14, at most 2^14 */
+        run->object_info[1] += (nx * ny) / 16384;
+        run->object_info[2] += (ny * ny) >> 14;
+    }
 }
 
 /* num / den in Q16.16 (den > 0), both scaled down together while num << 16
@@ -630,21 +637,6 @@ static fx_q2_30_t weak_share(const ego_track_params_t *params, fx_q16_16_t resid
     return (fx_q2_30_t)((share < most) ? share : most);
 }
 
-void ego_track_hold_weak(ego_track_run_t *run)
-{
-    run->weak_held = true;
-}
-
-void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius)
-{
-    run->radius = (radius < run->radius) ? radius : run->radius;
-}
-
-void ego_track_wary(ego_track_run_t *run)
-{
-    run->wary = true;
-}
-
 ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t *result)
 {
     memset(result, 0, sizeof *result);
@@ -689,12 +681,27 @@ ego_itcp_status_t ego_track_result(const ego_track_run_t *run, ego_itcp_result_t
                         weak_share(run->params, result->residual, run->current->spacing_arm) *
                             (run->weak_held ? 2 : 1),
                         &result->weak);
+        if (result->weak.kind == EGO_WEAK_NONE) {
+            /* Q28 -> Q14 (the squares' sums are not negative). */
+            const int32_t all[3] = {(int32_t)((g[0].a[0] + g[1].a[0]) >> 14),
+                                    (int32_t)((g[0].a[1] + g[1].a[1]) / 16384),
+                                    (int32_t)((g[0].a[3] + g[1].a[3]) >> 14)};
+            if (ego_cov_on_objects(all, run->object_info,
+                                   run->params->objects_share * (run->objects_held ? 2 : 1))) {
+                result->weak.kind = EGO_WEAK_OBJECTS;
+            }
+        }
     }
     result->weak_rotation = run->weak_rotation;
     result->aperture = g[0].n > 0 &&
                        ((int64_t)g[1].n << 30) < (int64_t)run->params->aperture_ratio * g[0].n;
     return (run->failed || n < (int64_t)run->params->min_matches) ? EGO_ITCP_ERR_FEW_MATCHES
                                                                   : EGO_ITCP_OK;
+}
+
+void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius)
+{
+    run->radius = (radius < run->radius) ? radius : run->radius;
 }
 
 void ego_track_probe_start(ego_track_run_t *run, const ego_scan_t *last,

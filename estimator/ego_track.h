@@ -59,6 +59,10 @@ typedef struct {
     fx_q2_30_t weak_share;            /* the weakest direction's share of the
                                          information below: weak (ego_cov_weakest);
                                          0.02 */
+    fx_q2_30_t objects_share;         /* the share of the information along some
+                                         translation that is not the objects' below:
+                                         it rests on objects (ego_cov_on_objects);
+                                         0.2 */
     uint16_t min_matches;             /* fewer: the registration fails; 10 */
     bool weighted;                    /* the groups weigh equally (eq. 10); false: every
                                          match alike, plain ICP for comparison; true */
@@ -111,7 +115,12 @@ typedef struct {
                            left (ego_track_wary) */
     bool weak_held;     /* the last motion had a weak direction: it stays weak until
                            its share is twice the threshold (ego_track_hold_weak) */
+    bool objects_held;  /* the last motion rested on objects: its test's share is
+                           doubled (ego_track_hold_objects) */
     ego_track_sums_t group[2];
+    int32_t object_info[3]; /* the translation part (xx, xy, yy, Q14) of J J^T over
+                               the matches of current points on objects
+                               (EGO_POINT_OBJECT): at most 2^14 a match */
     /* The unit normals of the last scan's segments (a -> a + 1), Q1.14,
      * each computed at its first use in the run and kept: (0, 0) not yet. */
     int16_t normal[EGO_MAX_POINTS][2];
@@ -152,14 +161,28 @@ void ego_track_narrow(ego_track_run_t *run, fx_q16_16_t radius);
  * scan held at a standstill (ego.c) a full pass's points, their
  * segments' normals new to the run, cost more than the half pass's, and
  * a pass that ran dry halfway left the standstill to a search. */
-void ego_track_wary(ego_track_run_t *run);
+static inline void ego_track_wary(ego_track_run_t *run)
+{
+    run->wary = true;
+}
 
 /* The run starts from a motion whose weak direction was the prediction's:
  * a direction stays weak until its share of the information is twice the
  * threshold (hysteresis: a corridor's length measured by its noise on one
  * line, between two lines that said it was not measured, was 0.17 m off
  * with a millimetre's covariance). */
-void ego_track_hold_weak(ego_track_run_t *run);
+static inline void ego_track_hold_weak(ego_track_run_t *run)
+{
+    run->weak_held = true;
+}
+
+/* The run starts from a motion that rested on objects (ego_cov_on_objects
+ * said so): the test's share is twice the threshold until it passes it
+ * (hysteresis, as ego_track_hold_weak). */
+static inline void ego_track_hold_objects(ego_track_run_t *run, bool held)
+{
+    run->objects_held = held;
+}
 
 /* The result of a finished run (EGO_ITCP_ERR_FEW_MATCHES: too few
  * matches, or the equations were singular; the pose is then the last). */

@@ -49,19 +49,24 @@
 # measure, 2.59 M on M3). Raised again the same day for intel: its
 # de-skewed points now in their de-skewed bearings' order, its searches
 # take another path (121 -> 129 M on M3, 132 M on M4F).
+# Raised 2026-12-04 by the objects test (issue 17, docs/estimator.md "Resting on
+# objects": each scan's objects marked, their matches' information summed in
+# every tracking pass, the test in its result), outputs unchanged: room_361
+# 2.34 -> 2.40 M (M3; 2.41 M on M4F), corridor_181 0.731 -> 0.743 M (M3; 0.747 M
+# on M4F): the new figures plus 2 %.
 set(LMSEGO_INSNS_GATE_MINSIZEREL_adversarial_361_cm 148160000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_aces_0_80 151820000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_busy_181_cm 1332000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_campus_181_cm 1305000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_circle_361_mm_noise 176130000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_corridor_181_cm 746000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_corridor_181_cm 762000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_corridor_361_cm_noise 109000000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_fast_361_cm 2598000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_fast_361_cm_corridor 2224000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_highway_361_cm_mirror 2646000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_intel_0_80 134740000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_room_181_mm 1360000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_room_361_cm_faults 2400000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_room_361_cm_faults 2460000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_table2_361_cm 61610000)
 
 # Issue 18's adversarial cases (host_tests/data/recordings/adversarial/), their

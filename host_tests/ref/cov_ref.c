@@ -241,3 +241,29 @@ bool cov_ref_weakest(const cov_ref_group_t group[2], double main_rad, double lev
     }
     return true;
 }
+
+bool cov_ref_on_objects(const double all[3], const double objects[3], double share, double *mu,
+                        double eig[2])
+{
+    const double det_t = all[0] * all[2] - all[1] * all[1];
+    if (!(all[0] > 0.0) || !(det_t > 0.0)) {
+        return false;
+    }
+    /* det(A - mu T) = det_t mu^2 - b mu + det_a, A = T - O. */
+    const double a[3] = {all[0] - objects[0], all[1] - objects[1], all[2] - objects[2]};
+    const double b = a[0] * all[2] + a[2] * all[0] - 2.0 * a[1] * all[1];
+    const double det_a = a[0] * a[2] - a[1] * a[1];
+    const double disc = fmax(b * b - 4.0 * det_t * det_a, 0.0);
+    /* The roots q / det_t and det_a / q, without cancellation. */
+    const double q = 0.5 * (b + copysign(sqrt(disc), b));
+    const double r0 = q / det_t;
+    const double r1 = (q != 0.0) ? det_a / q : r0;
+    *mu = fmin(r0, r1);
+    const double m[3] = {(1.0 - share) * all[0] - objects[0], (1.0 - share) * all[1] - objects[1],
+                         (1.0 - share) * all[2] - objects[2]};
+    const double mid = 0.5 * (m[0] + m[2]);
+    const double half = hypot(0.5 * (m[0] - m[2]), m[1]);
+    eig[0] = mid - half;
+    eig[1] = mid + half;
+    return true;
+}

@@ -36,4 +36,14 @@ double cov_ref_cut_factor(double r);
 bool cov_ref_weakest(const cov_ref_group_t group[2], double main_rad, double lever_m,
                      double *share, double *next_share, double dir[3]);
 
+/* The objects test of ego_cov_on_objects in doubles. all = T and objects =
+ * O as (xx, xy, yy), any common unit. mu: the least generalized
+ * eigenvalue of T - O against T, min over u of u^T (T - O) u / u^T T u
+ * (the smaller root of det(T - O - mu T) = 0); the test holds when mu <
+ * share. eig[0] <= eig[1]: the eigenvalues of M = (1 - share) T - O (M is
+ * not positive definite exactly when mu <= share). False (nothing
+ * written) when T is not positive definite. */
+bool cov_ref_on_objects(const double all[3], const double objects[3], double share, double *mu,
+                        double eig[2]);
+
 #endif /* COV_REF_H */

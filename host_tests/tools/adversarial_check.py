@@ -74,7 +74,7 @@ RECOVERED = 0x80
 WEAK_ROTATION = 0x100
 WEAK_TRANSLATION = 0x200
 # A trust flag: the line does not claim a wholly measured motion.
-TRUST = 0xFFF & ~(FIRST | NOT_CONVERGED | RECOVERED)
+TRUST = 0x1FFF & ~(FIRST | NOT_CONVERGED | RECOVERED)
 
 ZERO_M = 0.002     # "no motion": under 2 mm ...
 ZERO_DEG = 0.05    # ... and 0.05 deg

@@ -19,7 +19,7 @@ Silent failures (issue 16): a line that claims a motion (one interval, or a
 recovered line's span from the last answered scan) whose error exceeds
 --fail-m or --fail-deg (0.10 m, 1 deg) must carry a trust flag (TRUST:
 aperture, low correlation, too few points, predicted, weak
-rotation, translation or coupled, ambiguous) or a covariance whose 99.9 %
+rotation, translation or coupled, suspect, on objects) or a covariance whose 99.9 %
 ellipse (NEES 16.27) holds the error; one that does neither is silent.
 Prints their counts (and each silent pair with --list); --max-silent fails
 above it. --require-flag MASK fails unless --min-share of the lines carry
@@ -34,10 +34,11 @@ CHI2_3_999 = 16.266
 SKIP = 1 | 32 | 64 | 128  # first, predicted, recovering, recovered
 FIRST, RECOVERING, RECOVERED = 1, 64, 128
 # Lines with a part the scans did not measure (aperture, weak rotation,
-# translation, coupled): 1 m^2 or 1 rad^2 along it, a nearly singular
-# covariance whose four printed digits cannot be inverted; counted apart.
-UNMEASURED = 2 | 0x100 | 0x200 | 0x400
-TRUST = 2 | 8 | 16 | 32 | 0x100 | 0x200 | 0x400 | 0x800
+# translation, coupled) or did on objects only: 1 m^2 or 1 rad^2 along
+# it, a nearly singular covariance whose four printed digits cannot be
+# inverted; counted apart.
+UNMEASURED = 2 | 0x100 | 0x200 | 0x400 | 0x1000
+TRUST = 2 | 8 | 16 | 32 | 0x100 | 0x200 | 0x400 | 0x800 | 0x1000
 
 
 def compose(a, b):

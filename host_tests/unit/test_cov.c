@@ -10,7 +10,9 @@
 
 #include "cov_ref.h"
 #include "ego_cov.h"
+#include "fx_host.h"
 #include "lms_test_util.h"
+#include "test_rng.h"
 #include "unity.h"
 
 void setUp(void)
@@ -490,6 +492,212 @@ static void test_cov_rounded_matrix_stays_positive_definite(void)
     }
 }
 
+/* A uniform double in [0, 1) from the splitmix64 stream. */
+static double rng_unit(uint64_t *rng)
+{
+    return (double)(test_rng_next(rng) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* The translation information of matches for ego_cov_on_objects: every
+ * match's n n^T rounded to Q14 (T), and the same for the matches on
+ * objects (O). */
+typedef struct {
+    int32_t all[3];
+    int32_t objects[3];
+} objects_info_t;
+
+static void add_normal(objects_info_t *info, double rad, bool on_object)
+{
+    const double nx = cos(rad);
+    const double ny = sin(rad);
+    const int32_t e[3] = {(int32_t)lround(16384.0 * nx * nx), (int32_t)lround(16384.0 * nx * ny),
+                          (int32_t)lround(16384.0 * ny * ny)};
+    for (unsigned k = 0u; k < 3u; k++) {
+        info->all[k] += e[k];
+        info->objects[k] += on_object ? e[k] : 0;
+    }
+}
+
+/* The oracle on an info's integers (exact in double: below 2^22). */
+static bool objects_oracle(const objects_info_t *info, double share, double *mu, double eig[2])
+{
+    const double t[3] = {(double)info->all[0], (double)info->all[1], (double)info->all[2]};
+    const double o[3] = {(double)info->objects[0], (double)info->objects[1], (double)info->objects[2]};
+    return cov_ref_on_objects(t, o, share, mu, eig);
+}
+
+#if defined(LMSEGO_UNIT_ON_TARGET)
+#define OBJECTS_TRIALS 400u
+#else
+#define OBJECTS_TRIALS 2000u
+#endif
+/* Decisions within this relative distance of the threshold are not
+ * compared (the double roots themselves are good to 1e-8). */
+#define OBJECTS_BAND 1e-3
+/* The kernel truncates share T to whole Q14 units: each entry of its M
+ * lies within one unit of the exact one, its least eigenvalue within two.
+ * Where that eigenvalue is within this of 0 the decision is the
+ * truncation's. */
+#define OBJECTS_ROUNDING 2.0
+
+/* The objects test against its double oracle on random information sums:
+ * T from 1-200 unit normals (uniform or in a fan, a corridor's), O from a
+ * random subset (a random share of them, or those within a sector: the
+ * objects' normals all in one direction), share 0.05-0.5 (every third
+ * case 0.2-2 % either side of its threshold). It holds exactly when the
+ * least generalized eigenvalue mu of T - O against T is below share (away
+ * from it by OBJECTS_BAND). */
+static void test_cov_on_objects_matches_oracle(void)
+{
+    uint64_t rng = 0x0B1EC75u;
+    unsigned fired = 0u;
+    unsigned quiet = 0u;
+    unsigned band = 0u;
+    unsigned rounding = 0u;
+    unsigned singular = 0u;
+    unsigned near = 0u; /* shares put near their threshold */
+    for (unsigned trial = 0u; trial < OBJECTS_TRIALS; trial++) {
+        objects_info_t info;
+        memset(&info, 0, sizeof info);
+        const unsigned k = 1u + (unsigned)(test_rng_next(&rng) % 200u);
+        const double base = rng_unit(&rng) * 6.283185307179586;
+        const double fan = (0.05 + 0.95 * rng_unit(&rng)) * 3.14159265358979323846;
+        const bool by_sector = (test_rng_next(&rng) & 1u) != 0u;
+        const double p_object = rng_unit(&rng);
+        const double sector_mid = rng_unit(&rng) * 3.14159265358979323846;
+        const double sector_half = rng_unit(&rng) * 0.8;
+        for (unsigned i = 0u; i < k; i++) {
+            const double rad = base + (rng_unit(&rng) - 0.5) * fan;
+            bool on_object;
+            if (by_sector) {
+                /* A normal's line within sector_half of the sector's. */
+                on_object = fx_host_line_angle_diff(rad, sector_mid) <= sector_half;
+            } else {
+                on_object = rng_unit(&rng) < p_object;
+            }
+            add_normal(&info, rad, on_object);
+        }
+        double mu = 0.0;
+        double eig[2];
+        double share_d = 0.05 + 0.45 * rng_unit(&rng);
+        const double side = ((test_rng_next(&rng) & 1u) != 0u) ? 1.0 : -1.0;
+        const double off = (0.002 + 0.018 * rng_unit(&rng)) * side;
+        if (trial % 3u == 2u && objects_oracle(&info, share_d, &mu, eig) && mu * (1.0 + off) >= 0.05 &&
+            mu * (1.0 + off) <= 0.5) {
+            share_d = mu * (1.0 + off);
+            near++;
+        }
+        const fx_q2_30_t share_q30 = (fx_q2_30_t)lround(share_d * 1073741824.0);
+        const double share = (double)share_q30 / 1073741824.0;
+        const bool got = ego_cov_on_objects(info.all, info.objects, share_q30);
+
+        /* A T that is not positive definite (one normal, or a few along
+         * one line) has no mu. */
+        if ((int64_t)info.all[0] * info.all[2] - (int64_t)info.all[1] * info.all[1] <= 0 ||
+            !objects_oracle(&info, share, &mu, eig)) {
+            singular++;
+            continue;
+        }
+        char msg[240];
+        (void)snprintf(msg, sizeof msg,
+                       "trial %u (k %u): T %ld %ld %ld, O %ld %ld %ld, share %.5f: got %d; mu %.6f, "
+                       "M's eigenvalues %.2f %.2f",
+                       trial, k, (long)info.all[0], (long)info.all[1], (long)info.all[2], (long)info.objects[0],
+                       (long)info.objects[1], (long)info.objects[2], share, got, mu, eig[0], eig[1]);
+        if (fabs(mu - share) <= OBJECTS_BAND * share) {
+            band++;
+            continue;
+        }
+        /* mu < share exactly when M is not positive definite: the oracle
+         * agrees with itself. */
+        TEST_ASSERT_TRUE_MESSAGE((mu < share) == (eig[0] < 0.0), msg);
+        if (fabs(eig[0]) <= OBJECTS_ROUNDING) {
+            rounding++;
+            continue;
+        }
+        TEST_ASSERT_EQUAL_MESSAGE(mu < share, got, msg);
+        fired += got ? 1u : 0u;
+        quiet += got ? 0u : 1u;
+    }
+    const unsigned skipped = band + rounding + singular;
+    char seen[200];
+    (void)snprintf(seen, sizeof seen,
+                   "%u fired, %u quiet (%u near the threshold); skipped %u (%u at the threshold, %u at the "
+                   "rounding, %u T singular)",
+                   fired, quiet, near, skipped, band, rounding, singular);
+    TEST_MESSAGE(seen);
+    TEST_ASSERT_TRUE_MESSAGE(fired >= OBJECTS_TRIALS / 10u, seen);
+    TEST_ASSERT_TRUE_MESSAGE(quiet >= OBJECTS_TRIALS / 10u, seen);
+    TEST_ASSERT_TRUE_MESSAGE(near >= OBJECTS_TRIALS / 10u, seen);
+    TEST_ASSERT_TRUE_MESSAGE(skipped * 50u < OBJECTS_TRIALS, seen); /* under 2 % */
+}
+
+/* The objects test's limits: nothing on objects never holds, not even
+ * where T constrains a direction not at all (the weak test's case) or is
+ * empty; no objects under a room's information does not
+ * hold, not even at half as the share; everything on objects holds; a
+ * corridor whose length is measured only on objects (normals along y from
+ * the walls, a few along x from the back of a truck) holds, and not with
+ * those few off objects (a wall at the corridor's end). */
+static void test_cov_on_objects_edges(void)
+{
+    const fx_q2_30_t share = (fx_q2_30_t)(FX_Q2_30_ONE / 5);
+    objects_info_t info;
+
+    memset(&info, 0, sizeof info);
+    TEST_ASSERT_FALSE(ego_cov_on_objects(info.all, info.objects, share));
+    info.all[2] = 3000; /* a corridor's: nothing along x */
+    TEST_ASSERT_FALSE(ego_cov_on_objects(info.all, info.objects, share));
+    info.all[0] = 50; /* along x a little, all of it on objects */
+    info.objects[0] = 50;
+    TEST_ASSERT_TRUE(ego_cov_on_objects(info.all, info.objects, share));
+
+    /* A room: normals every 7 deg all round, none on objects. */
+    memset(&info, 0, sizeof info);
+    for (unsigned i = 0u; i < 100u; i++) {
+        add_normal(&info, 0.122 * (double)i, false);
+    }
+    TEST_ASSERT_FALSE(ego_cov_on_objects(info.all, info.objects, share));
+    TEST_ASSERT_FALSE(ego_cov_on_objects(info.all, info.objects, (fx_q2_30_t)(FX_Q2_30_ONE / 2)));
+    /* A quarter of its normals on objects, spread all round: mu about
+     * 0.75, the test holds from a share of about 0.75 up. */
+    memset(&info, 0, sizeof info);
+    for (unsigned i = 0u; i < 100u; i++) {
+        add_normal(&info, 0.122 * (double)i, i % 4u == 0u);
+    }
+    double mu = 0.0;
+    double eig[2];
+    TEST_ASSERT_TRUE(objects_oracle(&info, 0.5, &mu, eig));
+    char msg[48];
+    (void)snprintf(msg, sizeof msg, "mu %.4f", mu);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(mu - 0.75) < 0.05, msg);
+    const fx_q2_30_t below = (fx_q2_30_t)lround(0.99 * mu * 1073741824.0);
+    const fx_q2_30_t above = (fx_q2_30_t)lround(1.01 * mu * 1073741824.0);
+    TEST_ASSERT_FALSE(ego_cov_on_objects(info.all, info.objects, below));
+    TEST_ASSERT_TRUE(ego_cov_on_objects(info.all, info.objects, above));
+
+    /* Everything on objects: normals within 30 deg of 60 deg. */
+    memset(&info, 0, sizeof info);
+    for (unsigned i = 0u; i < 60u; i++) {
+        add_normal(&info, (60.0 + 60.0 * ((double)i / 59.0 - 0.5)) * 3.14159265358979323846 / 180.0, true);
+    }
+    TEST_ASSERT_TRUE(ego_cov_on_objects(info.all, info.objects, share));
+
+    /* The corridor: 100 normals across it (along +-y), 5 along x on a
+     * truck. Also at the smallest share the kernel is used with. */
+    memset(&info, 0, sizeof info);
+    for (unsigned i = 0u; i < 100u; i++) {
+        add_normal(&info, (i % 2u == 0u) ? 1.5707963267948966 : -1.5707963267948966, false);
+    }
+    for (unsigned i = 0u; i < 5u; i++) {
+        add_normal(&info, 0.01 * ((double)i - 2.0), true);
+    }
+    TEST_ASSERT_TRUE(ego_cov_on_objects(info.all, info.objects, share));
+    TEST_ASSERT_TRUE(ego_cov_on_objects(info.all, info.objects, (fx_q2_30_t)(FX_Q2_30_ONE / 20)));
+    memset(info.objects, 0, sizeof info.objects);
+    TEST_ASSERT_FALSE(ego_cov_on_objects(info.all, info.objects, share));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -503,5 +711,7 @@ int main(void)
     RUN_TEST(test_cov_unmeasured_parts);
     RUN_TEST(test_cov_weakest_matches_its_oracle);
     RUN_TEST(test_cov_weakest_kinds);
+    RUN_TEST(test_cov_on_objects_matches_oracle);
+    RUN_TEST(test_cov_on_objects_edges);
     return UNITY_END();
 }
