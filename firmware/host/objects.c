@@ -163,10 +163,11 @@ static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k)
     return false;
 }
 
-/* Least-squares slope of a series of a track (xs, ys) since t0; false
- * when the sightings span less than OBJ_VEL_MIN_S. */
-static bool series_slope(const obj_track_t *tr, const double *xs, const double *ys, double t0,
-                         double *vx, double *vy)
+/* Least-squares slope of a series of a track (xs, ys) since t0 over the
+ * sightings where use[i] (all when use is NULL); false when they span less
+ * than OBJ_VEL_MIN_S. */
+static bool series_slope(const obj_track_t *tr, const double *xs, const double *ys,
+                         const bool *use, double t0, double *vx, double *vy)
 {
     double n = 0.0;
     double st = 0.0;
@@ -175,7 +176,7 @@ static bool series_slope(const obj_track_t *tr, const double *xs, const double *
     double first = 0.0;
     double last = 0.0;
     for (uint32_t i = 0u; i < tr->n; i++) {
-        if (tr->t[i] < t0) {
+        if (tr->t[i] < t0 || (use != NULL && !use[i])) {
             continue;
         }
         if (n == 0.0) {
@@ -197,7 +198,7 @@ static bool series_slope(const obj_track_t *tr, const double *xs, const double *
     double stx = 0.0;
     double sty = 0.0;
     for (uint32_t i = 0u; i < tr->n; i++) {
-        if (tr->t[i] < t0) {
+        if (tr->t[i] < t0 || (use != NULL && !use[i])) {
             continue;
         }
         const double d = tr->t[i] - tm;
@@ -210,11 +211,9 @@ static bool series_slope(const obj_track_t *tr, const double *xs, const double *
     return true;
 }
 
-/* A track's velocity since t0 (objects.h: its silhouette ends when they
- * stay uncut, else its centre); false when unknown. *from_ends (may be
- * NULL) tells which. */
-static bool track_velocity_from(const obj_track_t *tr, double t0, double *vx, double *vy,
-                                bool *from_ends)
+/* The mean slope since t0 of the ends uncut throughout (whole) or over
+ * the sightings where they were uncut (!whole); false when none has one. */
+static bool ends_slope(const obj_track_t *tr, double t0, bool whole, double *vx, double *vy)
 {
     double sum_x = 0.0;
     double sum_y = 0.0;
@@ -226,21 +225,36 @@ static bool track_velocity_from(const obj_track_t *tr, double t0, double *vx, do
         }
         double ex;
         double ey;
-        if (ok && series_slope(tr, tr->ex[e], tr->ey[e], t0, &ex, &ey)) {
+        if ((ok || !whole) && series_slope(tr, tr->ex[e], tr->ey[e], tr->ok[e], t0, &ex, &ey)) {
             sum_x += ex;
             sum_y += ey;
             ends++;
         }
     }
+    if (ends == 0) {
+        return false;
+    }
+    *vx = sum_x / ends;
+    *vy = sum_y / ends;
+    return true;
+}
+
+/* A track's velocity since t0 (objects.h: its silhouette ends, else its
+ * centre); false when unknown. *from_ends (may be NULL) tells which. An end
+ * uncut throughout is preferred: one cut now and then may be no corner
+ * even where it looks uncut (a side seen at a grazing angle breaks up where
+ * its points are more than OBJ_GAP_M apart). Else the ends over the
+ * sightings where they were uncut: a car often comes out from behind one
+ * thing and goes behind the next, cut at one end and then at the other,
+ * and its centre then slides along it. */
+static bool track_velocity_from(const obj_track_t *tr, double t0, double *vx, double *vy,
+                                bool *from_ends)
+{
+    const bool ends = ends_slope(tr, t0, true, vx, vy) || ends_slope(tr, t0, false, vx, vy);
     if (from_ends != NULL) {
-        *from_ends = ends > 0;
+        *from_ends = ends;
     }
-    if (ends > 0) {
-        *vx = sum_x / ends;
-        *vy = sum_y / ends;
-        return true;
-    }
-    return series_slope(tr, tr->x, tr->y, t0, vx, vy);
+    return ends || series_slope(tr, tr->x, tr->y, NULL, t0, vx, vy);
 }
 
 static bool track_velocity(const obj_track_t *tr, double t0, double *vx, double *vy)

@@ -43,19 +43,26 @@
  * The slope is that of the cluster's ends where they are the body's own
  * silhouette (the extreme bearings of a convex body are its corners, which
  * move with it) throughout the window: the mean of both ends' slopes, or
- * the one end's; else of the box centre. (The centre of the visible part
- * slides when the field of view or an occluder cuts the body: a truck
- * overtaking alongside grows into view at the edge of the field.) A track
- * not seen for OBJ_MAX_MISSES scans is dropped.
+ * the one end's; else, of the ends over the sightings where they were
+ * uncut (a car coming out from behind one thing and going behind the next
+ * is cut at one end, then at the other; by its centre it seemed to stand,
+ * and the hold let go: most of the crossing street's misses); else of the
+ * box centre. (The centre of the visible part slides when the field
+ * of view or an occluder cuts the body: a truck overtaking alongside grows
+ * into view at the edge of the field.) An end uncut throughout comes first:
+ * a side seen at a grazing angle breaks where its points lie more than
+ * OBJ_GAP_M apart, an end that looks uncut now and then but is no corner.
+ * A track not seen for OBJ_MAX_MISSES scans is dropped.
  *
  * Hold: a body sliding along itself whose front is out of view (an
- * oncoming car passing alongside) gives no evidence; a confirmed track of
- * a vehicle (a moving cluster of it was OBJ_HOLD_TRACK_LENGTH_M long: not
- * a pedestrian, who walks along shop fronts whose pieces it would hold
- * on to) whose speed, from an uncut end (a centre sliding out of the field
- * of view makes a static wall seem to move), is at least
- * OBJ_HOLD_MIN_SPEED, matched to no moving
- * cluster, takes the nearest other segment at least OBJ_HOLD_MIN_LENGTH_M
+ * oncoming car passing alongside) gives no evidence, and neither does a
+ * car ahead pulling away at under 1.5 m/s (0.3 m in 0.2 s, under the
+ * margins); a confirmed track of a vehicle (a moving cluster of it was
+ * OBJ_HOLD_TRACK_LENGTH_M long, as a car's back is: not a pedestrian, who
+ * walks along shop fronts whose pieces it would hold on to) whose speed,
+ * from an uncut end (a centre sliding out of the field of view makes a
+ * static wall seem to move), is at least OBJ_HOLD_MIN_SPEED, matched to no
+ * moving cluster, takes the nearest other segment at least OBJ_HOLD_MIN_LENGTH_M
  * long within OBJ_HOLD_GATE_M of its prediction, for at most OBJ_MAX_HELD scans in a row. On a static
  * segment its velocity falls below the hold speed within a window, which
  * ends the hold.
@@ -97,7 +104,7 @@
 #define OBJ_HOLD_GATE_M 1.0
 #define OBJ_HOLD_MIN_SPEED 0.5
 #define OBJ_HOLD_MIN_LENGTH_M 1.0
-#define OBJ_HOLD_TRACK_LENGTH_M 2.0
+#define OBJ_HOLD_TRACK_LENGTH_M 1.4
 #define OBJ_MAX_HELD 150u
 
 /* The header line of `lmsego replay --objects`. */
