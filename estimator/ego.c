@@ -260,13 +260,14 @@ static bool half_accepted(const ego_params_t *params, const ego_itcp_result_t *r
     return balanced_share(r) >= params->accept_fraction / 2;
 }
 
-/* Is a better than b: registered, a balanced inlier share larger by more
- * than margin, then (equal shares, no margin) a smaller residual. */
+/* Does a registration's translation rest on objects (ego_cov_on_objects)? */
 static bool rests_on_objects(const ego_itcp_result_t *r)
 {
     return r->weak.kind == EGO_WEAK_OBJECTS;
 }
 
+/* Is a better than b: registered, a balanced inlier share larger by more
+ * than margin, then (equal shares, no margin) a smaller residual. */
 static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_status_t sb,
                    const ego_itcp_result_t *b, fx_q2_30_t margin)
 {
@@ -746,7 +747,9 @@ static void light_next(ego_state_t *state, const ego_params_t *params)
         se->best_k = light_candidate(se);
     }
     /* After a coarse pass, a best with the accept share over both groups
-     * is enough: more candidates cost scans. */
+     * is enough: more candidates cost scans. Not a best that rests on
+     * objects: behind a platoon at our speed the trucks' "standing still"
+     * fits well, and the street's motion is among the next candidates. */
     const bool done = !rests_on_objects(&se->best) &&
                       (good_enough(params, se->best_status, &se->best, false) || agrees ||
                        (se->with_coarse && (confirms_prediction(params, se, &se->best) ||

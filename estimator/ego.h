@@ -114,7 +114,7 @@
                                              standing in front (the backs of vehicles,
                                              people, posts) give nearly all of its
                                              information (ego_cov_on_objects); measured,
-                                             1 m^2 more variance along it */
+                                             1 m^2 more variance in x and in y */
 
 typedef struct {
     ego_prep_params_t prep;

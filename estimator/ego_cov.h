@@ -133,9 +133,10 @@ void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, 
  * eigenvalue (its entries below 2^25, their products in int64), no square
  * root. Without matches on objects it is positive semidefinite: a T that
  * constrains a direction not at all (a corridor's length: the weak test's
- * case) or none (no matches) does not rest on objects. Which direction it is is not worked out (the
- * flash of a 64 KiB part): the caller takes the whole translation as
- * unmeasured. Inline: its one caller is tracking's result. */
+ * case) or none (no matches) does not rest on objects. Which direction
+ * rests on them is not worked out (the flash of a 64 KiB part): the caller
+ * takes the whole translation as unmeasured. Inline: its one caller is
+ * tracking's result. */
 FX_INLINE bool ego_cov_on_objects(const int32_t all[3], const int32_t objects[3], fx_q2_30_t share)
 {
     int32_t m[3];

@@ -191,10 +191,11 @@ static void mark_objects(ego_scan_t *scan)
         const int32_t dy = scan->y[i] - scan->y[first];
         /* In front at both ends: beyond each a gap, or a point farther
          * (before the first: not rising to it; after the last: rising). */
+        const uint8_t side = EGO_LINK_GAP | EGO_LINK_RISES;
         const bool object = first > 0u && i + 1u < n &&
                             (int64_t)dx * dx + (int64_t)dy * dy <= extent_sq &&
-                            (scan->flags[first - 1u] & (EGO_LINK_GAP | EGO_LINK_RISES)) != EGO_LINK_RISES &&
-                            (scan->flags[i] & (EGO_LINK_GAP | EGO_LINK_RISES)) != 0u;
+                            (scan->flags[first - 1u] & side) != EGO_LINK_RISES &&
+                            (scan->flags[i] & side) != 0u;
         for (uint32_t k = first; object && k <= i; k++) {
             scan->flags[k] |= EGO_POINT_OBJECT;
         }

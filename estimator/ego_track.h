@@ -176,9 +176,9 @@ static inline void ego_track_hold_weak(ego_track_run_t *run)
     run->weak_held = true;
 }
 
-/* The run starts from a motion that rested on objects (ego_cov_on_objects
- * said so): the test's share is twice the threshold until it passes it
- * (hysteresis, as ego_track_hold_weak). */
+/* held: the run starts from a motion that rested on objects
+ * (ego_cov_on_objects said so), and the test's share is twice the
+ * threshold (hysteresis, as ego_track_hold_weak). */
 static inline void ego_track_hold_objects(ego_track_run_t *run, bool held)
 {
     run->objects_held = held;
