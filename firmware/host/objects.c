@@ -126,8 +126,9 @@ static bool seen_free(const obj_frame_t *f, double wx, double wy)
     return true;
 }
 
-/* Is beam k of the current frame evidence of motion against ref? */
-static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k)
+/* Is beam k of the current frame evidence of motion against ref? A body
+ * receding counts when what it left behind lay at most recede_m in front. */
+static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k, double recede_m)
 {
     double x;
     double y;
@@ -147,7 +148,7 @@ static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k)
     const long centre = lround(index);
     for (long j = centre - 1; j <= centre + 1; j++) {
         if (j < 0 || j >= (long)ref->count || ref->range[j] <= 0.0 ||
-            ref->range[j] > range - RECEDE_MIN_M || ref->range[j] < range - OBJ_RECEDE_M) {
+            ref->range[j] > range - RECEDE_MIN_M || ref->range[j] < range - recede_m) {
             continue;
         }
         double rx;
@@ -355,31 +356,39 @@ static void cluster_box(const obj_frame_t *f, uint32_t k0, uint32_t k1, obj_obje
     o->points = (uint16_t)(k1 - k0 + 1u);
 }
 
-/* The frame at least OBJ_REF_S older than the newest, or the oldest one
- * when it is at least half that old; NULL when there is none. */
-static const obj_frame_t *reference(const obj_tracker_t *t)
+/* The frame at least age_s older than the newest, or the oldest one when
+ * it is at least half that old; NULL when there is none. */
+static const obj_frame_t *reference(const obj_tracker_t *t, double age_s)
 {
     const obj_frame_t *cur = &t->frames[t->newest];
     for (uint32_t back = 1u; back < t->frames_used; back++) {
         const obj_frame_t *f = &t->frames[(t->newest + OBJ_HISTORY - back) % OBJ_HISTORY];
-        if (cur->time_s - f->time_s >= OBJ_REF_S) {
+        if (cur->time_s - f->time_s >= age_s) {
             return f;
         }
     }
     if (t->frames_used > 1u) {
         const obj_frame_t *f =
             &t->frames[(t->newest + OBJ_HISTORY - (t->frames_used - 1u)) % OBJ_HISTORY];
-        if (cur->time_s - f->time_s >= 0.5 * OBJ_REF_S) {
+        if (cur->time_s - f->time_s >= 0.5 * age_s) {
             return f;
         }
     }
     return NULL;
 }
 
-/* The segments of the newest frame, moving or not against ref: writes up
- * to OBJ_MAX_SEGMENTS into out (id and velocity not set), returns how
- * many. */
-static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref, obj_object_t *out)
+/* Enough evidence points among n to call a segment moving (objects.h). */
+static bool enough_evidence(uint32_t moving, uint32_t n)
+{
+    return moving >= 2u &&
+           ((double)moving >= OBJ_EVIDENCE_SHARE * n || moving >= OBJ_EVIDENCE_MIN);
+}
+
+/* The segments of the newest frame, moving or not against ref, or for a
+ * small one against slow (may be NULL, objects.h): writes up to
+ * OBJ_MAX_SEGMENTS into out (id and velocity not set), returns how many. */
+static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref,
+                            const obj_frame_t *slow, obj_object_t *out)
 {
     size_t found = 0u;
     uint32_t k = 0u;
@@ -389,7 +398,7 @@ static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref, obj_
             continue;
         }
         uint32_t end = k;
-        uint32_t moving = evidence(cur, ref, k) ? 1u : 0u;
+        uint32_t moving = evidence(cur, ref, k, OBJ_RECEDE_M) ? 1u : 0u;
         while (end + 1u < cur->count && cur->range[end + 1u] > 0.0 &&
                cur->range[end + 1u] <= OBJ_MAX_RANGE_M) {
             double ax;
@@ -402,15 +411,26 @@ static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref, obj_
                 break;
             }
             end++;
-            moving += evidence(cur, ref, end) ? 1u : 0u;
+            moving += evidence(cur, ref, end, OBJ_RECEDE_M) ? 1u : 0u;
         }
         const uint32_t n = end - k + 1u;
         if (n >= OBJ_MIN_POINTS) {
             obj_object_t o;
             memset(&o, 0, sizeof o);
-            o.moving = moving >= 2u &&
-                       ((double)moving >= OBJ_EVIDENCE_SHARE * n || moving >= OBJ_EVIDENCE_MIN);
             cluster_box(cur, k, end, &o);
+            o.moving = enough_evidence(moving, n);
+            /* A slow body, a person, moves beyond the margins only over
+             * the longer reference (objects.h). */
+            if (!o.moving && slow != NULL && o.length <= OBJ_SLOW_MAX_M &&
+                n >= OBJ_SLOW_MIN_POINTS) {
+                const double recede = OBJ_SLOW_MAX_SPEED * (cur->time_s - slow->time_s);
+                uint32_t slow_moving = 0u;
+                for (uint32_t j = k; j <= end; j++) {
+                    slow_moving += evidence(cur, slow, j, recede) ? 1u : 0u;
+                }
+                o.moving = enough_evidence(slow_moving, n);
+                o.slow = o.moving;
+            }
             const uint32_t ends[2] = {k, end};
             for (int e = 0; e < 2; e++) {
                 double x;
@@ -463,12 +483,13 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     for (uint32_t k = 0u; k < cur->count; k++) {
         cur->range[k] = (isfinite(in->range[k]) && in->range[k] > 0.0) ? in->range[k] : 0.0;
     }
-    const obj_frame_t *ref = reference(t);
+    const obj_frame_t *ref = reference(t, OBJ_REF_S);
     if (ref == NULL) {
         return 0u;
     }
+    const obj_frame_t *slow = reference(t, OBJ_SLOW_REF_S);
     static obj_object_t found[OBJ_MAX_SEGMENTS]; /* 24 KB: static, not reentrant */
-    const size_t n = find_clusters(cur, ref, found);
+    const size_t n = find_clusters(cur, ref, (slow != ref) ? slow : NULL, found);
     double wx[OBJ_MAX_SEGMENTS];
     double wy[OBJ_MAX_SEGMENTS];
     int track_of[OBJ_MAX_SEGMENTS];
@@ -535,7 +556,8 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
             tr->hits++;
             tr->held = found[i].moving ? 0u : tr->held + 1u;
             tr->length = found[i].moving ? fmax(tr->length, found[i].length) : tr->length;
-        } else if (found[i].moving && t->tracks_used < OBJ_MAX_TRACKS) {
+        } else if (found[i].moving && !found[i].slow && t->tracks_used < OBJ_MAX_TRACKS) {
+            /* (a slow cluster continues a track but starts none: objects.h) */
             obj_track_t *tr = &t->tracks[t->tracks_used++];
             memset(tr, 0, sizeof *tr);
             tr->id = t->next_id++;

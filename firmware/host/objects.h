@@ -33,6 +33,22 @@
  * box's sides (only the visible sides: a car seen from behind is as long
  * as the part of its side the beams reach).
  *
+ * Slow bodies: a pedestrian walking 1-1.5 m/s moves 0.2-0.3 m in
+ * OBJ_REF_S, at the thresholds above, and was found about half the time.
+ * A segment that is not a moving cluster, at most OBJ_SLOW_MAX_M long (a
+ * person, not a car: vehicle rows stay as they were) and of at least
+ * OBJ_SLOW_MIN_POINTS points (a 3-point piece of a facade newly seen
+ * at a grazing angle is the usual impostor), is checked again against a
+ * reference OBJ_SLOW_REF_S back, where such a body has moved twice as far.
+ * There a body receding counts only up to OBJ_SLOW_MAX_SPEED times that
+ * age (faster bodies are caught at OBJ_REF_S already): behind a person
+ * crossing the line of sight a wall 1-2 m further back is revealed, and
+ * that is no body receding. Such a slow cluster continues a track but
+ * starts none: the longer reference doubles the ego-motion's error too
+ * (stopgo's estimate a few cm a scan short made posts move, 31 false
+ * reports in a row), and a real walker gives evidence against OBJ_REF_S
+ * now and then.
+ *
  * Tracks: each cluster is associated with the nearest predicted track
  * (constant velocity in the world frame) within OBJ_GATE_M, greedily by
  * distance; an unmatched cluster starts a track with a new id. A track
@@ -67,7 +83,7 @@
  * segment its velocity falls below the hold speed within a window, which
  * ends the hold.
  *
- * Memory: static, in obj_tracker_t (about 0.35 MB: OBJ_HISTORY scans of
+ * Memory: static, in obj_tracker_t (about 0.59 MB: OBJ_HISTORY scans of
  * OBJ_MAX_BEAMS ranges, OBJ_MAX_TRACKS tracks of OBJ_TRACK_POINTS
  * sightings), plus 24 KB of segments (OBJ_MAX_SEGMENTS a scan) static in
  * obj_scan: one tracker at a time, not reentrant. At most OBJ_MAX_OBJECTS
@@ -80,12 +96,16 @@
 #include <stdint.h>
 
 #define OBJ_MAX_BEAMS 720u
-#define OBJ_HISTORY 40u     /* scans kept: 0.2 s at up to 190 Hz */
+#define OBJ_HISTORY 80u     /* scans kept: OBJ_SLOW_REF_S at up to 190 Hz */
 #define OBJ_MAX_OBJECTS 64u
 #define OBJ_MAX_TRACKS 64u
 #define OBJ_TRACK_POINTS 32u
 
 #define OBJ_REF_S 0.2
+#define OBJ_SLOW_REF_S 0.4      /* s: 1 m/s moves 0.4 m, beyond both margins */
+#define OBJ_SLOW_MAX_M 1.0      /* m: a person's box, its diagonal 0.7 m */
+#define OBJ_SLOW_MIN_POINTS 4u  /* one more than OBJ_MIN_POINTS */
+#define OBJ_SLOW_MAX_SPEED 2.5  /* m/s: faster is evidence at OBJ_REF_S */
 #define OBJ_MAX_RANGE_M 35.0
 #define OBJ_NEAR_M 0.2
 #define OBJ_FREE_MARGIN_M 0.3
@@ -135,6 +155,7 @@ typedef struct {
     uint16_t points;
     bool end_ok[2];
     bool moving; /* a moving cluster (else a segment a track holds) */
+    bool slow;   /* moving against the slow reference only */
 } obj_object_t;
 
 typedef struct {
