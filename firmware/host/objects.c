@@ -126,9 +126,46 @@ static bool seen_free(const obj_frame_t *f, double wx, double wy)
     return true;
 }
 
-/* Is beam k of the current frame evidence of motion against ref? A body
- * receding counts when what it left behind lay at most recede_m in front. */
-static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k, double recede_m)
+/* True when a current point outside the segment [k0, k1] lies nearer than
+ * OBJ_REVEAL_SHARE of dist to the world point: what stood there has more
+ * likely moved to that other body (a person crossing in front of a wall)
+ * than receded to the segment, dist behind it. The beams looked at are
+ * those that can pass within dist of it. */
+static bool nearer_elsewhere(const obj_frame_t *cur, uint32_t k0, uint32_t k1, double wx,
+                             double wy, double dist)
+{
+    double range;
+    double index;
+    polar(cur, wx, wy, &range, &index);
+    double x;
+    double y;
+    to_vehicle(cur, wx, wy, &x, &y);
+    /* Only the beams whose bearings can pass within dist of it. */
+    const double half =
+        (dist < range) ? asin(dist / range) / cur->bearing_step : (double)cur->count;
+    const long lo = (long)floor(index - half);
+    const long hi = (long)ceil(index + half);
+    for (long j = (lo > 0) ? lo : 0; j <= hi && j < (long)cur->count; j++) {
+        if (cur->range[j] <= 0.0 || (j >= (long)k0 && j <= (long)k1)) {
+            continue;
+        }
+        double qx;
+        double qy;
+        beam_point(cur, (uint32_t)j, &qx, &qy);
+        if (hypot(qx - x, qy - y) < OBJ_REVEAL_SHARE * dist) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* What beam k of the current frame, in the segment [k0, k1], tells of
+ * motion against ref. A body receding counts when what it left behind lay
+ * at most recede_m in front. */
+typedef enum { EV_NONE, EV_MOTION, EV_REVEALED } evidence_t;
+
+static evidence_t evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k, uint32_t k0,
+                           uint32_t k1, double recede_m)
 {
     double x;
     double y;
@@ -137,15 +174,16 @@ static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k,
     beam_point(cur, k, &x, &y);
     to_world(cur, x, y, &wx, &wy);
     if (near_surface(ref, wx, wy)) {
-        return false;
+        return EV_NONE;
     }
     if (seen_free(ref, wx, wy)) {
-        return true; /* entered space that was free */
+        return EV_MOTION; /* entered space that was free */
     }
     double range;
     double index;
     polar(ref, wx, wy, &range, &index);
     const long centre = lround(index);
+    evidence_t found = EV_NONE;
     for (long j = centre - 1; j <= centre + 1; j++) {
         if (j < 0 || j >= (long)ref->count || ref->range[j] <= 0.0 ||
             ref->range[j] > range - RECEDE_MIN_M || ref->range[j] < range - recede_m) {
@@ -158,10 +196,15 @@ static bool evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k,
         beam_point(ref, (uint32_t)j, &rx, &ry);
         to_world(ref, rx, ry, &rwx, &rwy);
         if (seen_free(cur, rwx, rwy) && !near_surface(cur, rwx, rwy)) {
-            return true; /* what was in front of it is gone */
+            /* What was in front of it is gone: receded to it, or moved
+             * aside to another body nearer, revealing it (objects.h). */
+            if (!nearer_elsewhere(cur, k0, k1, rwx, rwy, hypot(rwx - wx, rwy - wy))) {
+                return EV_MOTION;
+            }
+            found = EV_REVEALED;
         }
     }
-    return false;
+    return found;
 }
 
 /* Least-squares slope of a series of a track (xs, ys) since t0 over the
@@ -384,6 +427,18 @@ static bool enough_evidence(uint32_t moving, uint32_t n)
            ((double)moving >= OBJ_EVIDENCE_SHARE * n || moving >= OBJ_EVIDENCE_MIN);
 }
 
+/* The evidence of the points [k0, k1] of cur against ref, by kind. */
+static void count_evidence(const obj_frame_t *cur, const obj_frame_t *ref, uint32_t k0,
+                           uint32_t k1, double recede_m, uint32_t count[3])
+{
+    count[EV_NONE] = 0u;
+    count[EV_MOTION] = 0u;
+    count[EV_REVEALED] = 0u;
+    for (uint32_t j = k0; j <= k1; j++) {
+        count[evidence(cur, ref, j, k0, k1, recede_m)]++;
+    }
+}
+
 /* The segments of the newest frame, moving or not against ref, or for a
  * small one against slow (may be NULL, objects.h): writes up to
  * OBJ_MAX_SEGMENTS into out (id and velocity not set), returns how many. */
@@ -398,7 +453,6 @@ static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref,
             continue;
         }
         uint32_t end = k;
-        uint32_t moving = evidence(cur, ref, k, OBJ_RECEDE_M) ? 1u : 0u;
         while (end + 1u < cur->count && cur->range[end + 1u] > 0.0 &&
                cur->range[end + 1u] <= OBJ_MAX_RANGE_M) {
             double ax;
@@ -411,25 +465,27 @@ static size_t find_clusters(const obj_frame_t *cur, const obj_frame_t *ref,
                 break;
             }
             end++;
-            moving += evidence(cur, ref, end, OBJ_RECEDE_M) ? 1u : 0u;
         }
         const uint32_t n = end - k + 1u;
         if (n >= OBJ_MIN_POINTS) {
             obj_object_t o;
             memset(&o, 0, sizeof o);
             cluster_box(cur, k, end, &o);
-            o.moving = enough_evidence(moving, n);
+            uint32_t count[3];
+            count_evidence(cur, ref, k, end, OBJ_RECEDE_M, count);
+            o.moving = enough_evidence(count[EV_MOTION] + count[EV_REVEALED], n);
+            o.proven = enough_evidence(count[EV_MOTION], n);
             /* A slow body, a person, moves beyond the margins only over
              * the longer reference (objects.h). */
-            if (!o.moving && slow != NULL && o.length <= OBJ_SLOW_MAX_M &&
+            if (!o.proven && slow != NULL && o.length <= OBJ_SLOW_MAX_M &&
                 n >= OBJ_SLOW_MIN_POINTS) {
-                const double recede = OBJ_SLOW_MAX_SPEED * (cur->time_s - slow->time_s);
-                uint32_t slow_moving = 0u;
-                for (uint32_t j = k; j <= end; j++) {
-                    slow_moving += evidence(cur, slow, j, recede) ? 1u : 0u;
-                }
-                o.moving = enough_evidence(slow_moving, n);
-                o.slow = o.moving;
+                count_evidence(cur, slow, k, end,
+                               OBJ_SLOW_MAX_SPEED * (cur->time_s - slow->time_s), count);
+                const bool slow_moving =
+                    enough_evidence(count[EV_MOTION] + count[EV_REVEALED], n);
+                o.slow = !o.moving && slow_moving;
+                o.moving = o.moving || slow_moving;
+                o.proven = enough_evidence(count[EV_MOTION], n);
             }
             const uint32_t ends[2] = {k, end};
             for (int e = 0; e < 2; e++) {
@@ -554,6 +610,7 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
             obj_track_t *tr = &t->tracks[track_of[i]];
             track_add(tr, time_s, wx[i], wy[i], &found[i]);
             tr->hits++;
+            tr->proven = tr->proven || found[i].proven;
             tr->held = found[i].moving ? 0u : tr->held + 1u;
             tr->length = found[i].moving ? fmax(tr->length, found[i].length) : tr->length;
         } else if (found[i].moving && !found[i].slow && t->tracks_used < OBJ_MAX_TRACKS) {
@@ -562,6 +619,7 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
             memset(tr, 0, sizeof *tr);
             tr->id = t->next_id++;
             tr->hits = 1u;
+            tr->proven = found[i].proven;
             tr->length = found[i].length;
             track_add(tr, time_s, wx[i], wy[i], &found[i]);
             track_of[i] = (int)(t->tracks_used - 1u);
@@ -571,7 +629,8 @@ size_t obj_scan(obj_tracker_t *t, uint32_t scan, double time_s, bool measured, d
     const double c = cos(cur->pose[2]);
     const double s = sin(cur->pose[2]);
     for (size_t i = 0u; i < n && written < cap; i++) {
-        if (track_of[i] < 0 || t->tracks[track_of[i]].hits < OBJ_CONFIRM) {
+        if (track_of[i] < 0 || t->tracks[track_of[i]].hits < OBJ_CONFIRM ||
+            !t->tracks[track_of[i]].proven) {
             continue;
         }
         const obj_track_t *tr = &t->tracks[track_of[i]];

@@ -49,6 +49,17 @@
  * reports in a row), and a real walker gives evidence against OBJ_REF_S
  * now and then.
  *
+ * Revealed, not receding: a wall behind a walker is newly seen when the
+ * walker steps aside, and by the receding rule it seemed a body that had
+ * moved back to it (the pedestrians' street's false objects, 0.08-0.11 a
+ * scan, all such tracks). When some current point outside the segment
+ * lies nearer the vanished reference point than OBJ_REVEAL_SHARE of its
+ * distance to the segment's point, what stood there more likely moved to
+ * that body: the evidence still makes the cluster moving (it may continue
+ * or start a track), but a track is reported, or holds a segment, only
+ * once one of its clusters had enough evidence of its own (entered free
+ * space, or receded with nothing nearer), against either reference.
+ *
  * Tracks: each cluster is associated with the nearest predicted track
  * (constant velocity in the world frame) within OBJ_GATE_M, greedily by
  * distance; an unmatched cluster starts a track with a new id. A track
@@ -106,6 +117,7 @@
 #define OBJ_SLOW_MAX_M 1.0      /* m: a person's box, its diagonal 0.7 m */
 #define OBJ_SLOW_MIN_POINTS 4u  /* one more than OBJ_MIN_POINTS */
 #define OBJ_SLOW_MAX_SPEED 2.5  /* m/s: faster is evidence at OBJ_REF_S */
+#define OBJ_REVEAL_SHARE 0.5    /* a body nearer than half the way back took it */
 #define OBJ_MAX_RANGE_M 35.0
 #define OBJ_NEAR_M 0.2
 #define OBJ_FREE_MARGIN_M 0.3
@@ -156,6 +168,7 @@ typedef struct {
     bool end_ok[2];
     bool moving; /* a moving cluster (else a segment a track holds) */
     bool slow;   /* moving against the slow reference only */
+    bool proven; /* moving by more than what others revealed (objects.h) */
 } obj_object_t;
 
 typedef struct {
@@ -172,6 +185,7 @@ typedef struct {
     uint32_t hits;
     uint32_t misses;
     uint32_t held;         /* scans in a row on a segment without evidence */
+    bool proven;           /* a cluster of it was proven moving: reported */
     double length;         /* the longest of its moving clusters, m */
     uint32_t n;            /* centres kept, at most OBJ_TRACK_POINTS */
     double t[OBJ_TRACK_POINTS];
