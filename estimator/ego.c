@@ -1538,7 +1538,9 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     if (state->weak) {
         ego_track_hold_weak(&state->tracking);
     }
-    ego_track_hold_objects(&state->tracking, state->on_objects);
+    if (state->on_objects) {
+        ego_track_hold_objects(&state->tracking);
+    }
     if (holding(state)) {
         ego_track_wary(&state->tracking);
     }

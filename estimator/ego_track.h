@@ -176,12 +176,12 @@ static inline void ego_track_hold_weak(ego_track_run_t *run)
     run->weak_held = true;
 }
 
-/* held: the run starts from a motion that rested on objects
- * (ego_cov_on_objects said so), and the test's share is twice the
- * threshold (hysteresis, as ego_track_hold_weak). */
-static inline void ego_track_hold_objects(ego_track_run_t *run, bool held)
+/* The run starts from a motion that rested on objects (ego_cov_on_objects
+ * said so): the test's share is twice the threshold (hysteresis, as
+ * ego_track_hold_weak). */
+static inline void ego_track_hold_objects(ego_track_run_t *run)
 {
-    run->objects_held = held;
+    run->objects_held = true;
 }
 
 /* The result of a finished run (EGO_ITCP_ERR_FEW_MATCHES: too few

@@ -44,17 +44,24 @@ static void beam_point(const obj_frame_t *f, uint32_t k, double *x, double *y)
     *y = f->origin_y + f->range[k] * sin(b);
 }
 
-/* A world point as f's sensor sees it: its range and its fractional beam
- * index (may lie outside 0 .. count - 1: not seen). */
+/* A point of f's vehicle frame as f's sensor sees it: its range and its
+ * fractional beam index (may lie outside 0 .. count - 1: not seen). */
+static void polar_of_vehicle(const obj_frame_t *f, double x, double y, double *range,
+                             double *index)
+{
+    x -= f->origin_x;
+    y -= f->origin_y;
+    *range = hypot(x, y);
+    *index = (atan2(y, x) - f->first_bearing) / f->bearing_step;
+}
+
+/* The same of a world point. */
 static void polar(const obj_frame_t *f, double wx, double wy, double *range, double *index)
 {
     double x;
     double y;
     to_vehicle(f, wx, wy, &x, &y);
-    x -= f->origin_x;
-    y -= f->origin_y;
-    *range = hypot(x, y);
-    *index = (atan2(y, x) - f->first_bearing) / f->bearing_step;
+    polar_of_vehicle(f, x, y, range, index);
 }
 
 static double segment_distance(double px, double py, double ax, double ay, double bx, double by)
@@ -72,12 +79,12 @@ static double segment_distance(double px, double py, double ax, double ay, doubl
  * point. */
 static bool near_surface(const obj_frame_t *f, double wx, double wy)
 {
-    double range;
-    double index;
-    polar(f, wx, wy, &range, &index);
     double x;
     double y;
     to_vehicle(f, wx, wy, &x, &y);
+    double range;
+    double index;
+    polar_of_vehicle(f, x, y, &range, &index);
     const long centre = lround(index);
     for (long j = centre - 3; j <= centre + 3; j++) {
         if (j < 0 || j >= (long)f->count || f->range[j] <= 0.0) {
@@ -134,12 +141,12 @@ static bool seen_free(const obj_frame_t *f, double wx, double wy)
 static bool nearer_elsewhere(const obj_frame_t *cur, uint32_t k0, uint32_t k1, double wx,
                              double wy, double dist)
 {
-    double range;
-    double index;
-    polar(cur, wx, wy, &range, &index);
     double x;
     double y;
     to_vehicle(cur, wx, wy, &x, &y);
+    double range;
+    double index;
+    polar_of_vehicle(cur, x, y, &range, &index);
     /* Only the beams whose bearings can pass within dist of it. */
     const double half =
         (dist < range) ? asin(dist / range) / cur->bearing_step : (double)cur->count;
