@@ -22,6 +22,9 @@ void ego_loop_init(ego_loop_t *loop, const ego_loop_config_t *config)
     ego_reset(&loop->ego);
     ego_timing_reset(&loop->timing);
     loop->period_us = config->period_us;
+#if EGO_LOOP_OBJECTS
+    ego_moving_reset(&loop->moving);
+#endif
 }
 
 /* --- Scan times from arrival stamps ------------------------------------- */
@@ -316,6 +319,40 @@ static uint32_t scan_time_us(const ego_loop_t *loop, uint32_t k, uint32_t track_
     return track_us - (ego_range_lag_ns(range) + 500u) / 1000u;
 }
 
+#if EGO_LOOP_OBJECTS
+/* The moving objects of scan k, after its line (ego_loop.h). Out of line:
+ * its objects are not on the stack while the estimator runs. */
+static EGO_NOINLINE void write_objects(ego_loop_t *loop, const ego_hal_t *hal, uint32_t k,
+                                       const ego_range_scan_t *range, uint32_t t_us,
+                                       const ego_output_t *out)
+{
+    ego_moving_object_t found[EGO_MOVING_MAX_OBJECTS];
+    const uint8_t n = ego_moving_scan(&loop->moving, range, t_us, out, found, EGO_MOVING_MAX_OBJECTS);
+    if (k == 0u || loop->config.frames) {
+        return;
+    }
+    for (uint8_t i = 0u; i < n; i++) {
+        const ego_moving_object_t *o = &found[i];
+        line_t l = {loop->line, sizeof loop->line, 0u};
+        put_text(&l, "o,");
+        put_number(&l, k, 0u, true);
+        put_number(&l, o->id, 0u, true);
+        put_number(&l, o->cx_cm, 2u, true);
+        put_number(&l, o->cy_cm, 2u, true);
+        put_number(&l, o->length_cm, 2u, true);
+        put_number(&l, o->width_cm, 2u, true);
+        if (o->vx_cms == EGO_MOVING_UNKNOWN) {
+            put_text(&l, "nan,nan,");
+        } else {
+            put_number(&l, o->vx_cms, 2u, true);
+            put_number(&l, o->vy_cms, 2u, true);
+        }
+        put_number(&l, o->points, 0u, false);
+        write_text(hal, loop->line, l.len);
+    }
+}
+#endif
+
 static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t track_us)
 {
     const uint32_t k = loop->stats.scans++;
@@ -338,6 +375,11 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t track_us)
         return;
     }
     if (k == 0u) {
+#if EGO_LOOP_OBJECTS
+        if (loop->config.objects) {
+            write_objects(loop, hal, k, &range, t_us, &out); /* its first reference */
+        }
+#endif
         return; /* the first scan has no motion */
     }
     if (loop->config.observer != NULL) {
@@ -350,6 +392,11 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t track_us)
     } else {
         write_line(loop, hal, k, t_us, &out);
     }
+#if EGO_LOOP_OBJECTS
+    if (loop->config.objects) {
+        write_objects(loop, hal, k, &range, t_us, &out);
+    }
+#endif
     loop->stats.lines++;
     loop->stats.predicted += (out.flags & EGO_FLAG_PREDICTED) ? 1u : 0u;
     loop->stats.restarts += (out.flags & EGO_FLAG_FIRST) ? 1u : 0u;
@@ -371,6 +418,9 @@ void ego_loop_telegram(ego_loop_t *loop, const ego_hal_t *hal, const uint8_t *te
 void ego_loop_gap(ego_loop_t *loop)
 {
     ego_reset(&loop->ego);
+#if EGO_LOOP_OBJECTS
+    ego_moving_reset(&loop->moving);
+#endif
 }
 
 void ego_loop_set_meas_mode(ego_loop_t *loop, uint8_t meas_mode)

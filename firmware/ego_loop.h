@@ -36,6 +36,7 @@
 
 #include "ego.h"
 #include "ego_lms.h"
+#include "ego_moving.h"
 #include "lms_decode.h"
 #include "lms_framer.h"
 
@@ -80,6 +81,9 @@ typedef struct {
                                   after each read stamps what it read), see above */
     bool frames;               /* true: an ego_frame.h frame per scan, not the CSV line */
     bool latency;              /* true: the CSV gains latency_ms (use_clock only) */
+    bool objects;              /* true: each CSV line is followed by its scan's moving
+                                  objects, one "o," line each (EGO_LOOP_OBJECTS below;
+                                  ignored with frames, or in a build without them) */
     uint8_t line_baud;         /* lms_baud_t the bytes came at (use_clock): wire times */
 } ego_loop_config_t;
 
@@ -186,6 +190,22 @@ uint32_t ego_timing_scan(ego_timing_t *t, const uint8_t *telegram, size_t len,
 uint32_t ego_timing_track(ego_timing_t *t, uint32_t estimate_us, uint32_t steps,
                           uint32_t interval_us, uint32_t band_us);
 
+/* The moving objects (ego_moving.h) cost about 2 KB of RAM in ego_loop_t
+ * and 3 KB of flash: a build for a 64 KiB part leaves them out
+ * (EGO_LOOP_OBJECTS 0; CMake option LMSEGO_LOOP_OBJECTS). With them and
+ * config.objects, after each scan's CSV line (none after the first scan)
+ * come its confirmed objects, one line each:
+ *
+ *   o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points
+ *
+ * in the scan's vehicle frame, two decimals (the record's centimetres);
+ * vx and vy "nan" while unknown. A CSV reader that wants the motion only
+ * skips lines that start with "o,". */
+#ifndef EGO_LOOP_OBJECTS
+#define EGO_LOOP_OBJECTS 1
+#endif
+#define EGO_LOOP_OBJECTS_COLUMNS "scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points"
+
 typedef struct {
     /* Private. */
     ego_loop_config_t config;
@@ -199,6 +219,9 @@ typedef struct {
     ego_loop_stats_t stats;
     uint8_t rx[EGO_LOOP_READ_CHUNK];
     char line[EGO_LOOP_LINE_MAX];
+#if EGO_LOOP_OBJECTS
+    ego_moving_t moving;
+#endif
 } ego_loop_t;
 
 void ego_loop_init(ego_loop_t *loop, const ego_loop_config_t *config);

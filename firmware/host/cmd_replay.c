@@ -1,7 +1,7 @@
 /* cmd_replay.c - `lmsego replay FILE [--period S] [--mount X,Y,THETA_DEG]
  * [--mode HEX] [--budget none|default|U] [--icp] [--hist AH|LAH|HAH|HTAH] [--prior FILE] [--pairs OUT]
  * [--tum OUT] [--frames OUT] [--scan-step K] [--scan-offset O] [--times arrival|index]
- * [--baud B] [--sweep lms|instant] [--objects OUT]`:
+ * [--baud B] [--sweep lms|instant] [--objects OUT] [--moving]`:
  * runs the firmware loop (firmware/ego_loop.h) over a
  * recorded telegram stream, through a host HAL that reads the file, and
  * prints its CSV on stdout. A summary line goes to stderr at the end:
@@ -63,6 +63,11 @@
  * `scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points`, in the
  * vehicle frame of that scan (x forward, y left), the velocity over
  * ground ("nan" until the object's track spans 0.1 s).
+ *
+ * --moving: the firmware loop's own compact objects (ego_moving.h, fixed
+ * point, what the target prints): each CSV line is followed by its scan's
+ * "o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points" lines
+ * (ego_loop.h). Not with --frames.
  */
 #include <errno.h>
 #include <math.h>
@@ -455,6 +460,12 @@ static const char help[] =
     "                spans 0.1 s), its points; id is stable while it is tracked. Found\n"
     "                against the scan 0.2 s earlier (docs/experiments.md, \"Moving\n"
     "                objects\"); a line without a measured motion starts over\n"
+    "  --moving      the firmware's compact moving objects in the CSV itself: after\n"
+    "                each line, one line per object of its scan,\n"
+    "                'o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points' (as\n"
+    "                --objects, in centimetres; the box along the cluster's chord;\n"
+    "                fixed point, the target's bits: estimator/ego_moving.h); not\n"
+    "                with --frames\n"
     "  --scan-step K, --scan-offset O  stream scan s is log scan O + s K (import-carmen\n"
     "                --stride K --offset O): --prior and --pairs count log scans\n"
     "                (default 1 and 0)\n";
@@ -538,6 +549,8 @@ int replay_parse_options(const cli_command_t *self, int argc, char **argv, repla
             }
             o->prior_path = value;
             i++;
+        } else if (strcmp(arg, "--moving") == 0) {
+            config->objects = true;
         } else if (strcmp(arg, "--objects") == 0) {
             if (value == NULL) {
                 return cli_usage_error(self, "missing file after", arg, NULL);
@@ -605,6 +618,9 @@ int replay_parse_options(const cli_command_t *self, int argc, char **argv, repla
     }
     if (o->path == NULL) {
         return cli_usage_error(self, "missing FILE", NULL, NULL);
+    }
+    if (config->objects && o->frames_path != NULL) {
+        return cli_usage_error(self, "--moving goes into the CSV, not with", "--frames", NULL);
     }
     return CLI_PARSED;
 }

@@ -1,0 +1,609 @@
+/* ego_moving.c - moving clusters of a range scan (ego_moving.h). */
+#include "ego_moving.h"
+
+#include <stddef.h>
+
+#include "ego_fx_math.h"
+#include "ego_pose.h"
+
+/* Lines whose motion is not measured: the chain of poses starts over. */
+#define UNMEASURED (EGO_FLAG_FIRST | EGO_FLAG_PREDICTED | EGO_FLAG_RECOVERING | EGO_FLAG_RECOVERED)
+
+/* 2 pi * 2^16: a bearing step in 2^-16 turn times this / 2^16 is Q16.16 rad. */
+#define TWO_PI_Q16 411775
+
+#define US_PER_S 1000000
+
+/* A scan's time and motion, and the reference it is judged against. */
+typedef struct {
+    const ego_range_scan_t *scan;
+    const ego_moving_ref_t *ref;
+    fx_q2_30_t ref_sin; /* of ref->pose.theta */
+    fx_q2_30_t ref_cos;
+} view_t;
+
+typedef struct {
+    fx_q16_16_t x;
+    fx_q16_16_t y;
+    fx_q16_16_t length;
+    fx_q16_16_t width;
+    uint16_t points;
+    uint8_t track; /* EGO_MOVING_TRACKS: none */
+} cluster_t;
+
+static fx_q16_16_t range_q16(const ego_range_scan_t *scan, uint16_t k)
+{
+    /* At most 65535 * 500000 * 65536 < 2^61; the result < 2^31 (ego_range.h). */
+    const uint64_t v = (uint64_t)scan->range[k] * scan->range_unit_um * 65536u;
+    return (fx_q16_16_t)((v + 500000u) / 1000000u);
+}
+
+/* origin + r (cos b, sin b). */
+static void point_at(fx_q16_16_t ox, fx_q16_16_t oy, fx_bam32_t b, fx_q16_16_t r, fx_q16_16_t *x,
+                     fx_q16_16_t *y)
+{
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(b, &s, &c);
+    *x = fx_add_q16(ox, fx_mul_q16_q30(r, c));
+    *y = fx_add_q16(oy, fx_mul_q16_q30(r, s));
+}
+
+static uint64_t dist_sq(fx_q16_16_t dx, fx_q16_16_t dy)
+{
+    /* Each square < 2^62: the sum fits. Q32.32. */
+    return (uint64_t)((int64_t)dx * dx) + (uint64_t)((int64_t)dy * dy);
+}
+
+/* (dx, dy) from an origin as range (Q16.16) and bearing. */
+static void polar_of(fx_q16_16_t dx, fx_q16_16_t dy, fx_q16_16_t *r, fx_bam32_t *b)
+{
+    const uint32_t root = fx_sqrt_u64(dist_sq(dx, dy));
+    *r = (root > (uint32_t)INT32_MAX) ? INT32_MAX : (fx_q16_16_t)root;
+    *b = fx_atan2_quick(dy, dx);
+}
+
+/* max(EGO_MOVING_NEAR, r * step): neighbouring beams' points lie that
+ * far apart at range r. step in 2^-16 turn. */
+static uint64_t near_sq(fx_q16_16_t r, uint32_t step)
+{
+    /* step < 2^16 and r < 2^31: the angle (Q16.16 rad, < 2^19) first. */
+    const int64_t angle = ((int64_t)step * TWO_PI_Q16) >> 16;
+    const int64_t gap = ((int64_t)r * angle) >> 16;
+    const int64_t thr = (gap > EGO_MOVING_NEAR) ? gap : EGO_MOVING_NEAR;
+    return (thr >= INT32_MAX) ? UINT64_MAX : (uint64_t)(thr * thr);
+}
+
+/* --- the reference ------------------------------------------------------ */
+
+static fx_q16_16_t ref_range(const ego_moving_ref_t *ref, uint16_t i)
+{
+    return (fx_q16_16_t)(((uint32_t)ref->range_cm[i] * 65536u + 50u) / 100u);
+}
+
+/* Point i of the reference, in the reference's vehicle frame. */
+static void ref_point(const ego_moving_ref_t *ref, uint16_t i, fx_q16_16_t *x, fx_q16_16_t *y)
+{
+    point_at(ref->origin_x, ref->origin_y, ref->first + ((uint32_t)ref->offset[i] << 16),
+             ref_range(ref, i), x, y);
+}
+
+/* The reference beams j, j + 1 on both sides of bearing b; false outside
+ * the reference's field. */
+static bool ref_bracket(const ego_moving_ref_t *ref, fx_bam32_t b, uint16_t *j)
+{
+    if (ref->count < 2u) {
+        return false;
+    }
+    const uint32_t o = (b - ref->first) >> 16;
+    if (o > ref->offset[ref->count - 1u]) {
+        return false;
+    }
+    uint16_t lo = 0u;
+    uint16_t hi = (uint16_t)(ref->count - 1u); /* offset[lo] <= o, lo < hi */
+    while ((uint32_t)hi - lo > 1u) {
+        const uint16_t mid = (uint16_t)((lo + hi) / 2u);
+        if (ref->offset[mid] <= o) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    *j = lo;
+    return true;
+}
+
+/* Is a reference point of beams j - 1 .. j + 2 within near of (x, y)? */
+static bool ref_near(const ego_moving_ref_t *ref, uint16_t j, fx_q16_16_t x, fx_q16_16_t y,
+                     uint64_t near)
+{
+    const uint16_t from = (j > 0u) ? (uint16_t)(j - 1u) : 0u;
+    const uint16_t to = (j + 3u < ref->count) ? (uint16_t)(j + 3u) : ref->count;
+    for (uint16_t i = from; i < to; i++) {
+        if (ref->range_cm[i] == 0u) {
+            continue;
+        }
+        fx_q16_16_t rx;
+        fx_q16_16_t ry;
+        ref_point(ref, i, &rx, &ry);
+        if (dist_sq(fx_sub_q16(rx, x), fx_sub_q16(ry, y)) < near) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* --- the current scan ----------------------------------------------------- */
+
+/* The scan's beams c, c + 1 on both sides of bearing b; false outside. */
+static bool scan_bracket(const ego_range_scan_t *scan, fx_bam32_t b, uint16_t *c)
+{
+    if (scan->count < 2u) {
+        return false;
+    }
+    const fx_bam32_t b0 = ego_range_bearing(scan, 0u);
+    const uint32_t o = b - b0;
+    if (o > ego_range_bearing(scan, (uint16_t)(scan->count - 1u)) - b0) {
+        return false;
+    }
+    uint16_t lo = 0u;
+    uint16_t hi = (uint16_t)(scan->count - 1u);
+    while ((uint32_t)hi - lo > 1u) {
+        const uint16_t mid = (uint16_t)((lo + hi) / 2u);
+        if (ego_range_bearing(scan, mid) - b0 <= o) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    *c = lo;
+    return true;
+}
+
+static void scan_point(const ego_range_scan_t *scan, uint16_t k, fx_q16_16_t *x, fx_q16_16_t *y)
+{
+    point_at(scan->origin_x, scan->origin_y, ego_range_bearing(scan, k), range_q16(scan, k), x, y);
+}
+
+/* A reference point, now at (x, y) in the current frame, is gone: the
+ * current beams on both sides of it reach EGO_MOVING_BEYOND past it (or
+ * have no return) and no current point lies near it. */
+static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y)
+{
+    fx_q16_16_t r;
+    fx_bam32_t b;
+    polar_of(fx_sub_q16(x, scan->origin_x), fx_sub_q16(y, scan->origin_y), &r, &b);
+    uint16_t c;
+    if (!scan_bracket(scan, b, &c)) {
+        return false;
+    }
+    for (uint16_t k = c; k <= c + 1u; k++) {
+        if (scan->range[k] != 0u && range_q16(scan, k) <= fx_add_q16(r, EGO_MOVING_BEYOND)) {
+            return false;
+        }
+    }
+    const uint32_t step = (ego_range_bearing(scan, (uint16_t)(c + 1u)) - ego_range_bearing(scan, c)) >> 16;
+    const uint64_t near = near_sq(r, step);
+    const uint16_t from = (c > 0u) ? (uint16_t)(c - 1u) : 0u;
+    const uint16_t to = (c + 3u < scan->count) ? (uint16_t)(c + 3u) : scan->count;
+    for (uint16_t k = from; k < to; k++) {
+        if (scan->range[k] == 0u) {
+            continue;
+        }
+        fx_q16_16_t px;
+        fx_q16_16_t py;
+        scan_point(scan, k, &px, &py);
+        if (dist_sq(fx_sub_q16(px, x), fx_sub_q16(py, y)) < near) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Is the current point (px, py) evidence of motion (ego_moving.h)? */
+static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
+{
+    const ego_moving_ref_t *ref = v->ref;
+    fx_q16_16_t qx;
+    fx_q16_16_t qy;
+    ego_pose_apply(&ref->pose, v->ref_sin, v->ref_cos, px, py, &qx, &qy);
+    fx_q16_16_t r;
+    fx_bam32_t b;
+    polar_of(fx_sub_q16(qx, ref->origin_x), fx_sub_q16(qy, ref->origin_y), &r, &b);
+    uint16_t j;
+    if (!ref_bracket(ref, b, &j)) {
+        return false;
+    }
+    const uint64_t near = near_sq(r, (uint32_t)ref->offset[j + 1u] - ref->offset[j]);
+    if (ref_near(ref, j, qx, qy, near)) {
+        return false;
+    }
+    bool entered = true;
+    for (uint16_t i = j; i <= j + 1u; i++) {
+        entered = entered &&
+                  (ref->range_cm[i] == 0u || ref_range(ref, i) > fx_add_q16(r, EGO_MOVING_FREE_MARGIN));
+    }
+    if (entered) {
+        return true;
+    }
+    for (uint16_t i = j; i <= j + 1u; i++) {
+        const fx_q16_16_t rho = ref_range(ref, i);
+        if (ref->range_cm[i] == 0u || rho >= fx_sub_q16(r, EGO_MOVING_BEYOND) ||
+            rho <= fx_sub_q16(r, EGO_MOVING_RECEDE)) {
+            continue;
+        }
+        /* The reference point in the current frame: the pose inverted. */
+        fx_q16_16_t sx;
+        fx_q16_16_t sy;
+        ref_point(ref, i, &sx, &sy);
+        const fx_q16_16_t dx = fx_sub_q16(sx, ref->pose.x);
+        const fx_q16_16_t dy = fx_sub_q16(sy, ref->pose.y);
+        const fx_q16_16_t cx = fx_add_q16(fx_mul_q16_q30(dx, v->ref_cos), fx_mul_q16_q30(dy, v->ref_sin));
+        const fx_q16_16_t cy = fx_sub_q16(fx_mul_q16_q30(dy, v->ref_cos), fx_mul_q16_q30(dx, v->ref_sin));
+        if (vanished(v->scan, cx, cy)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* --- clusters ------------------------------------------------------------- */
+
+static bool usable(const ego_range_scan_t *scan, uint16_t k)
+{
+    return scan->range[k] != 0u && range_q16(scan, k) <= EGO_MOVING_MAX_RANGE;
+}
+
+/* Does beam k continue the segment of beam k - 1? */
+static bool continues(const ego_range_scan_t *scan, uint16_t k)
+{
+    if (k == 0u || !usable(scan, (uint16_t)(k - 1u)) || !usable(scan, k)) {
+        return false;
+    }
+    const int64_t d = (int64_t)range_q16(scan, k) - range_q16(scan, (uint16_t)(k - 1u));
+    return d <= EGO_MOVING_GAP && d >= -(int64_t)EGO_MOVING_GAP;
+}
+
+/* The box of beams [from, to) along their chord and across it. */
+static void box_of(const ego_range_scan_t *scan, uint16_t from, uint16_t to, cluster_t *cl)
+{
+    fx_q16_16_t fx;
+    fx_q16_16_t fy;
+    fx_q16_16_t lx;
+    fx_q16_16_t ly;
+    scan_point(scan, from, &fx, &fy);
+    scan_point(scan, (uint16_t)(to - 1u), &lx, &ly);
+    const fx_q16_16_t dx = fx_sub_q16(lx, fx);
+    const fx_q16_16_t dy = fx_sub_q16(ly, fy);
+    const int64_t len = (int64_t)fx_sqrt_u64(dist_sq(dx, dy));
+    int64_t ux = (int64_t)1 << 30; /* the chord's direction, Q2.30 */
+    int64_t uy = 0;
+    if (len > 0) {
+        ux = ((int64_t)dx * ((int64_t)1 << 30)) / len;
+        uy = ((int64_t)dy * ((int64_t)1 << 30)) / len;
+    }
+    int64_t amin = INT64_MAX;
+    int64_t amax = INT64_MIN;
+    int64_t wmin = INT64_MAX;
+    int64_t wmax = INT64_MIN;
+    for (uint16_t k = from; k < to; k++) {
+        fx_q16_16_t px;
+        fx_q16_16_t py;
+        scan_point(scan, k, &px, &py);
+        const int64_t ex = fx_sub_q16(px, fx);
+        const int64_t ey = fx_sub_q16(py, fy);
+        /* Usable points lie within 35 m: each product < 2^54. */
+        const int64_t a = fx_shr_round_s64(ex * ux + ey * uy, 30u); /* Q16.16 */
+        const int64_t w = fx_shr_round_s64(ey * ux - ex * uy, 30u);
+        amin = (a < amin) ? a : amin;
+        amax = (a > amax) ? a : amax;
+        wmin = (w < wmin) ? w : wmin;
+        wmax = (w > wmax) ? w : wmax;
+    }
+    const int64_t am = (amin + amax) / 2;
+    const int64_t wm = (wmin + wmax) / 2;
+    cl->x = fx_add_q16(fx, fx_sat_s32(fx_shr_round_s64(am * ux - wm * uy, 30u)));
+    cl->y = fx_add_q16(fy, fx_sat_s32(fx_shr_round_s64(am * uy + wm * ux, 30u)));
+    cl->length = fx_sat_s32(amax - amin);
+    cl->width = fx_sat_s32(wmax - wmin);
+    cl->points = (uint16_t)(to - from);
+    cl->track = EGO_MOVING_TRACKS;
+}
+
+/* Is the segment [from, to) a moving cluster? */
+static bool moving(const view_t *v, uint16_t from, uint16_t to)
+{
+    const ego_range_scan_t *scan = v->scan;
+    const uint32_t n = (uint32_t)to - from;
+    if (n < EGO_MOVING_MIN_POINTS) {
+        return false;
+    }
+    fx_q16_16_t fx;
+    fx_q16_16_t fy;
+    fx_q16_16_t lx;
+    fx_q16_16_t ly;
+    scan_point(scan, from, &fx, &fy);
+    scan_point(scan, (uint16_t)(to - 1u), &lx, &ly);
+    const uint64_t extent = (uint64_t)((int64_t)EGO_MOVING_MAX_EXTENT * EGO_MOVING_MAX_EXTENT);
+    if (dist_sq(fx_sub_q16(lx, fx), fx_sub_q16(ly, fy)) > extent) {
+        return false;
+    }
+    uint32_t ev = 0u;
+    for (uint16_t k = from; k < to; k++) {
+        fx_q16_16_t px;
+        fx_q16_16_t py;
+        scan_point(scan, k, &px, &py);
+        ev += evidence(v, px, py) ? 1u : 0u;
+    }
+    return ev >= 2u && (10u * ev >= 3u * n || ev >= EGO_MOVING_EVIDENCE_MIN);
+}
+
+/* The moving clusters of the scan, in scan order, at most cap. */
+static uint8_t find_clusters(const view_t *v, cluster_t *out, uint8_t cap)
+{
+    const ego_range_scan_t *scan = v->scan;
+    uint8_t n = 0u;
+    uint16_t from = 0u;
+    for (uint16_t k = 1u; k <= scan->count && n < cap; k++) {
+        if (k < scan->count && continues(scan, k)) {
+            continue;
+        }
+        /* [from, k) is a segment when its beams are usable. */
+        if (usable(scan, from) && moving(v, from, k)) {
+            box_of(scan, from, k, &out[n++]);
+        }
+        from = k;
+    }
+    return n;
+}
+
+/* --- tracks --------------------------------------------------------------- */
+
+/* A point of the last scan's frame in the current one: the motion
+ * (this scan in the last one's frame) inverted. */
+static void into_current(const ego_pose_t *motion, fx_q2_30_t s, fx_q2_30_t c, fx_q16_16_t *x,
+                         fx_q16_16_t *y)
+{
+    const fx_q16_16_t dx = fx_sub_q16(*x, motion->x);
+    const fx_q16_16_t dy = fx_sub_q16(*y, motion->y);
+    *x = fx_add_q16(fx_mul_q16_q30(dx, c), fx_mul_q16_q30(dy, s));
+    *y = fx_sub_q16(fx_mul_q16_q30(dy, c), fx_mul_q16_q30(dx, s));
+}
+
+/* Every track moved on by dt and into the current frame. */
+static void predict_tracks(ego_moving_t *m, const ego_pose_t *motion, uint32_t dt_us)
+{
+    fx_q2_30_t s;
+    fx_q2_30_t c;
+    fx_sincos(motion->theta, &s, &c);
+    for (uint32_t i = 0u; i < EGO_MOVING_TRACKS; i++) {
+        ego_moving_track_t *t = &m->track[i];
+        t->seen = false;
+        if (!t->used) {
+            continue;
+        }
+        if (t->known) {
+            t->x = fx_add_q16(t->x, fx_sat_s32((int64_t)t->vx * dt_us / US_PER_S));
+            t->y = fx_add_q16(t->y, fx_sat_s32((int64_t)t->vy * dt_us / US_PER_S));
+            /* A velocity turns with the frame: no translation. */
+            const ego_pose_t turn = {motion->theta, 0, 0};
+            into_current(&turn, s, c, &t->vx, &t->vy);
+        }
+        into_current(motion, s, c, &t->x, &t->y);
+        into_current(motion, s, c, &t->anchor_x, &t->anchor_y);
+        const uint64_t age = (uint64_t)t->anchor_age_us + dt_us;
+        t->anchor_age_us = (age > UINT32_MAX) ? UINT32_MAX : (uint32_t)age;
+    }
+}
+
+/* Clusters to tracks, nearest pairs first, within EGO_MOVING_GATE. */
+static void associate(ego_moving_t *m, cluster_t *cl, uint8_t n)
+{
+    const uint64_t gate = (uint64_t)((int64_t)EGO_MOVING_GATE * EGO_MOVING_GATE);
+    for (uint8_t round = 0u; round < n; round++) {
+        uint64_t best = gate;
+        uint8_t bi = n;
+        uint8_t bt = EGO_MOVING_TRACKS;
+        for (uint8_t i = 0u; i < n; i++) {
+            if (cl[i].track != EGO_MOVING_TRACKS) {
+                continue;
+            }
+            for (uint8_t t = 0u; t < EGO_MOVING_TRACKS; t++) {
+                const ego_moving_track_t *tr = &m->track[t];
+                if (!tr->used || tr->seen) {
+                    continue;
+                }
+                const uint64_t d = dist_sq(fx_sub_q16(cl[i].x, tr->x), fx_sub_q16(cl[i].y, tr->y));
+                if (d <= best) {
+                    best = d;
+                    bi = i;
+                    bt = t;
+                }
+            }
+        }
+        if (bi == n) {
+            return;
+        }
+        cl[bi].track = bt;
+        m->track[bt].seen = true;
+    }
+}
+
+/* (a - b) per second over age_us. */
+static fx_q16_16_t rate(fx_q16_16_t a, fx_q16_16_t b, uint32_t age_us)
+{
+    return fx_sat_s32(((int64_t)a - b) * US_PER_S / age_us);
+}
+
+static void update_track(ego_moving_track_t *t, const cluster_t *cl)
+{
+    if (t->anchor_age_us >= EGO_MOVING_VEL_MIN_US) {
+        const fx_q16_16_t vx = rate(cl->x, t->anchor_x, t->anchor_age_us);
+        const fx_q16_16_t vy = rate(cl->y, t->anchor_y, t->anchor_age_us);
+        if (t->known) {
+            t->vx = fx_add_q16(t->vx, fx_sat_s32(((int64_t)vx - t->vx) / 4));
+            t->vy = fx_add_q16(t->vy, fx_sat_s32(((int64_t)vy - t->vy) / 4));
+        } else {
+            t->vx = vx;
+            t->vy = vy;
+            t->known = true;
+        }
+        if (t->anchor_age_us >= EGO_MOVING_VEL_WINDOW_US) {
+            t->anchor_x = cl->x;
+            t->anchor_y = cl->y;
+            t->anchor_age_us = 0u;
+        }
+    }
+    t->x = cl->x;
+    t->y = cl->y;
+    t->hits = (t->hits < UINT8_MAX) ? (uint8_t)(t->hits + 1u) : UINT8_MAX;
+    t->misses = 0u;
+}
+
+/* A slot for a new track: a free one, else the one missed longest. */
+static uint8_t free_slot(const ego_moving_t *m)
+{
+    uint8_t pick = EGO_MOVING_TRACKS;
+    uint8_t most = 0u;
+    for (uint8_t t = 0u; t < EGO_MOVING_TRACKS; t++) {
+        const ego_moving_track_t *tr = &m->track[t];
+        if (!tr->used) {
+            return t;
+        }
+        if (!tr->seen && tr->misses > most) {
+            most = tr->misses;
+            pick = t;
+        }
+    }
+    return pick;
+}
+
+static void start_track(ego_moving_t *m, uint8_t slot, const cluster_t *cl)
+{
+    ego_moving_track_t *t = &m->track[slot];
+    *t = (ego_moving_track_t){0};
+    t->used = true;
+    t->seen = true;
+    t->x = cl->x;
+    t->y = cl->y;
+    t->anchor_x = cl->x;
+    t->anchor_y = cl->y;
+    t->hits = 1u;
+    t->id = m->next_id;
+    m->next_id = (m->next_id == UINT16_MAX) ? 1u : (uint16_t)(m->next_id + 1u);
+}
+
+/* --- references ----------------------------------------------------------- */
+
+static void take_reference(ego_moving_ref_t *ref, const ego_range_scan_t *scan, uint32_t time_us)
+{
+    ref->pose = (ego_pose_t){0u, 0, 0};
+    ref->time_us = time_us;
+    ref->origin_x = scan->origin_x;
+    ref->origin_y = scan->origin_y;
+    ref->first = (scan->count > 0u) ? ego_range_bearing(scan, 0u) : 0u;
+    const uint32_t stride = ((uint32_t)scan->count + EGO_MOVING_REF_POINTS - 1u) / EGO_MOVING_REF_POINTS;
+    uint16_t n = 0u;
+    for (uint32_t k = 0u; k < scan->count; k += stride) {
+        const uint16_t beam = (uint16_t)k;
+        ref->offset[n] = (uint16_t)((ego_range_bearing(scan, beam) - ref->first) >> 16);
+        const uint64_t cm = ((uint64_t)scan->range[beam] * scan->range_unit_um + 5000u) / 10000u;
+        ref->range_cm[n] = (scan->range[beam] == 0u) ? 0u
+                           : (cm == 0u)              ? 1u
+                           : (cm > UINT16_MAX)       ? UINT16_MAX
+                                                     : (uint16_t)cm;
+        n++;
+    }
+    ref->count = n;
+}
+
+void ego_moving_reset(ego_moving_t *m)
+{
+    *m = (ego_moving_t){0};
+    m->next_id = 1u;
+}
+
+static int16_t cm_of(fx_q16_16_t v)
+{
+    const int64_t cm = fx_shr_round_s64((int64_t)v * 100, 16u);
+    return (cm > INT16_MAX) ? INT16_MAX : (cm < INT16_MIN + 1) ? (int16_t)(INT16_MIN + 1) : (int16_t)cm;
+}
+
+static uint16_t ucm_of(fx_q16_16_t v)
+{
+    const int64_t cm = fx_shr_round_s64((int64_t)v * 100, 16u);
+    return (cm > UINT16_MAX) ? UINT16_MAX : (cm < 0) ? 0u : (uint16_t)cm;
+}
+
+uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t time_us,
+                        const ego_output_t *out, ego_moving_object_t *objects, uint8_t cap)
+{
+    const uint32_t dt_us = time_us - m->time_us;
+    m->time_us = time_us;
+    if ((out->flags & UNMEASURED) != 0u || dt_us == 0u || dt_us > EGO_MOVING_MAX_DT_US) {
+        ego_moving_reset(m);
+        m->time_us = time_us;
+        take_reference(&m->ref[0], scan, time_us);
+        m->refs = 1u;
+        return 0u;
+    }
+    for (uint32_t i = 0u; i < m->refs; i++) {
+        m->ref[i].pose = ego_pose_then(&m->ref[i].pose, &out->pose);
+    }
+    predict_tracks(m, &out->pose, dt_us);
+
+    cluster_t cl[EGO_MOVING_CLUSTERS];
+    uint8_t n = 0u;
+    const uint8_t oldest = (m->refs == EGO_MOVING_REFS) ? (uint8_t)(1u - m->newest) : m->newest;
+    if (m->refs > 0u && time_us - m->ref[oldest].time_us >= EGO_MOVING_REF_MIN_US) {
+        view_t v = {scan, &m->ref[oldest], 0, 0};
+        fx_sincos(v.ref->pose.theta, &v.ref_sin, &v.ref_cos);
+        n = find_clusters(&v, cl, EGO_MOVING_CLUSTERS);
+    }
+    associate(m, cl, n);
+    for (uint8_t i = 0u; i < n; i++) {
+        if (cl[i].track != EGO_MOVING_TRACKS) {
+            update_track(&m->track[cl[i].track], &cl[i]);
+            continue;
+        }
+        const uint8_t slot = free_slot(m);
+        if (slot != EGO_MOVING_TRACKS) {
+            start_track(m, slot, &cl[i]);
+            cl[i].track = slot;
+        }
+    }
+    for (uint8_t t = 0u; t < EGO_MOVING_TRACKS; t++) {
+        ego_moving_track_t *tr = &m->track[t];
+        if (tr->used && !tr->seen && ++tr->misses > EGO_MOVING_MAX_MISSES) {
+            tr->used = false;
+        }
+    }
+
+    if (m->refs == 0u || time_us - m->ref[m->newest].time_us >= EGO_MOVING_REF_MIN_US) {
+        const uint8_t slot = (m->refs < EGO_MOVING_REFS) ? m->refs : oldest;
+        take_reference(&m->ref[slot], scan, time_us);
+        m->newest = slot;
+        m->refs = (m->refs < EGO_MOVING_REFS) ? (uint8_t)(m->refs + 1u) : m->refs;
+    }
+
+    uint8_t written = 0u;
+    for (uint8_t i = 0u; i < n && written < cap; i++) {
+        if (cl[i].track == EGO_MOVING_TRACKS) {
+            continue;
+        }
+        const ego_moving_track_t *tr = &m->track[cl[i].track];
+        if (tr->hits < EGO_MOVING_CONFIRM) {
+            continue;
+        }
+        ego_moving_object_t *o = &objects[written++];
+        o->id = tr->id;
+        o->points = cl[i].points;
+        o->cx_cm = cm_of(cl[i].x);
+        o->cy_cm = cm_of(cl[i].y);
+        o->length_cm = ucm_of(cl[i].length);
+        o->width_cm = ucm_of(cl[i].width);
+        o->vx_cms = tr->known ? cm_of(tr->vx) : EGO_MOVING_UNKNOWN;
+        o->vy_cms = tr->known ? cm_of(tr->vy) : EGO_MOVING_UNKNOWN;
+    }
+    return written;
+}

@@ -1,0 +1,163 @@
+/* ego_moving.h - moving clusters of a range scan, in fixed point: the
+ * compact objects the firmware loop reports (issue 17 item 3; the host's
+ * fuller detector in doubles is firmware/host/objects.h).
+ *
+ * After ego_process has measured a scan's motion, the scan is compared
+ * with a reference scan EGO_MOVING_REF_MIN_US (0.2 s) or more older: at
+ * 75 Hz consecutive scans are 13 ms apart, and a car keeping pace moves
+ * 5 cm in that time, less than the range noise; over 0.2-0.4 s a
+ * pedestrian walks 0.28-0.56 m, a car 1-4 m. The references' poses are
+ * chained from the estimator's motions; a line without a measured motion
+ * (first, predicted, recovering, recovered) starts everything over.
+ *
+ * Segments: neighbouring beams whose ranges differ by at most
+ * EGO_MOVING_GAP (1 m), within EGO_MOVING_MAX_RANGE (35 m). A segment of
+ * at least EGO_MOVING_MIN_POINTS (3) points whose ends are at most
+ * EGO_MOVING_MAX_EXTENT (16 m) apart (walls are longer) is a candidate;
+ * its points are evidence of motion when no reference point lies within
+ * EGO_MOVING_NEAR (0.2 m, or the reference's beam spacing at the point's
+ * range if more) and either
+ *   - entered: the reference beams on both sides of the point's bearing
+ *     reached EGO_MOVING_FREE_MARGIN (0.3 m) beyond it, or had no return
+ *     (it stands where the sensor saw free space: a static surface newly
+ *     revealed lies behind the old ranges, so it is never evidence), or
+ *   - left behind: a reference point on one of those beams lay 0.15 m to
+ *     EGO_MOVING_RECEDE (4 m) in front of it and is gone now (the current
+ *     beams on both sides of its bearing reach 0.15 m beyond it, and no
+ *     current point is near it): a body moving away from the sensor.
+ * A candidate with at least two evidence points and at least 30 % of its
+ * points evidence (or EGO_MOVING_EVIDENCE_MIN, 6: a long side sliding
+ * along itself gives evidence only at its front) is a moving cluster: its
+ * box is the bounding box of its points along its chord (end to end) and
+ * across it; centre, length and width are the box's.
+ *
+ * Tracks (EGO_MOVING_TRACKS): each cluster goes to the nearest predicted
+ * track (constant velocity over ground) within EGO_MOVING_GATE (2 m),
+ * nearest pairs first; a cluster left over starts a track. A track is
+ * reported from its EGO_MOVING_CONFIRM-th (3rd) sighting on, on the scans
+ * it is seen in. Its velocity is the displacement of its box centre from
+ * an anchor sighting EGO_MOVING_VEL_MIN_US (0.1 s) or more before, over
+ * that time (the first such measurement sets it, later ones move it a
+ * quarter of the way); the anchor moves on after EGO_MOVING_VEL_WINDOW_US
+ * (0.3 s). A track missed EGO_MOVING_MAX_MISSES (8) scans in a row is
+ * dropped. Everything is kept in the current vehicle frame (turned by
+ * each motion), so no world coordinate grows without bound.
+ *
+ * What the host's detector does and this does not: a second, older
+ * reference for slow bodies, the revealed-wall rule, velocities from a
+ * body's uncut ends, holding a vehicle that gives no evidence. Measured
+ * against it in docs/experiments.md ("Moving objects").
+ *
+ * Static memory: ego_moving_t (EGO_MOVING_REFS references of at most
+ * EGO_MOVING_REF_POINTS beams, a longer scan decimated to fit; the
+ * tracks), owned by the caller. Work per scan: bounded by the scan's
+ * beams (each candidate point: a handful of binary searches over at most
+ * EGO_MAX_BEAMS beams and at most ten sines), the clusters
+ * (EGO_MOVING_CLUSTERS a scan, in scan order) and the tracks. No float.
+ */
+#ifndef EGO_MOVING_H
+#define EGO_MOVING_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "ego.h"
+#include "ego_range.h"
+
+#define EGO_MOVING_REF_POINTS 192u
+#define EGO_MOVING_REFS 2u
+#define EGO_MOVING_TRACKS 8u
+#define EGO_MOVING_CLUSTERS 16u
+#define EGO_MOVING_MAX_OBJECTS EGO_MOVING_TRACKS
+
+/* Times, us: the age a reference needs, and how often one is taken (with
+ * two, the older is 0.2-0.4 s old). */
+#define EGO_MOVING_REF_MIN_US 200000u
+#define EGO_MOVING_VEL_MIN_US 100000u
+#define EGO_MOVING_VEL_WINDOW_US 300000u
+/* A longer interval between scans starts everything over, as does a line
+ * without a measured motion (and keeps the predictions' products in
+ * range). */
+#define EGO_MOVING_MAX_DT_US 1000000u
+#define EGO_MOVING_CONFIRM 3u
+#define EGO_MOVING_MAX_MISSES 8u
+#define EGO_MOVING_MIN_POINTS 3u
+#define EGO_MOVING_EVIDENCE_MIN 6u
+/* Distances, Q16.16 m. */
+#define EGO_MOVING_MAX_RANGE FX_Q16_16_C(35.0)
+#define EGO_MOVING_GAP FX_Q16_16_C(1.0)
+#define EGO_MOVING_MAX_EXTENT FX_Q16_16_C(16.0)
+#define EGO_MOVING_NEAR FX_Q16_16_C(0.2)
+#define EGO_MOVING_FREE_MARGIN FX_Q16_16_C(0.3)
+#define EGO_MOVING_BEYOND FX_Q16_16_C(0.15)
+#define EGO_MOVING_RECEDE FX_Q16_16_C(4.0)
+#define EGO_MOVING_GATE FX_Q16_16_C(2.0)
+
+/* A velocity not known yet (the track is younger than
+ * EGO_MOVING_VEL_MIN_US). */
+#define EGO_MOVING_UNKNOWN INT16_MIN
+
+/* One reported object, current vehicle frame: 16 bytes. Lengths in cm
+ * and velocities in cm/s saturate at the int16/uint16 range (327 m,
+ * 327 m/s). */
+typedef struct {
+    uint16_t id;       /* the track's, from 1, wrapping past 65535 to 1 */
+    uint16_t points;   /* of the cluster */
+    int16_t cx_cm;     /* box centre */
+    int16_t cy_cm;
+    uint16_t length_cm; /* along the cluster's chord */
+    uint16_t width_cm;  /* across it */
+    int16_t vx_cms;    /* over ground; EGO_MOVING_UNKNOWN: not known yet */
+    int16_t vy_cms;
+} ego_moving_object_t;
+
+typedef struct {
+    /* Private. */
+    ego_pose_t pose;       /* the current vehicle frame in this reference's */
+    uint32_t time_us;
+    fx_bam32_t first;      /* bearing of point 0, vehicle frame */
+    fx_q16_16_t origin_x;  /* the sensor's origin, vehicle frame */
+    fx_q16_16_t origin_y;
+    uint16_t count;
+    uint16_t offset[EGO_MOVING_REF_POINTS];   /* bearing - first, 2^-16 turn */
+    uint16_t range_cm[EGO_MOVING_REF_POINTS]; /* 0: no return */
+} ego_moving_ref_t;
+
+typedef struct {
+    /* Private. */
+    fx_q16_16_t x;         /* box centre last seen, predicted to now */
+    fx_q16_16_t y;
+    fx_q16_16_t vx;        /* m/s over ground (when known) */
+    fx_q16_16_t vy;
+    fx_q16_16_t anchor_x;  /* the anchor sighting's centre */
+    fx_q16_16_t anchor_y;
+    uint32_t anchor_age_us;
+    uint16_t id;
+    uint8_t hits;          /* saturating */
+    uint8_t misses;
+    bool used;
+    bool known;            /* the velocity */
+    bool seen;             /* in this scan */
+} ego_moving_track_t;
+
+typedef struct {
+    /* Private: ego_moving_reset, ego_moving_scan. */
+    ego_moving_ref_t ref[EGO_MOVING_REFS];
+    ego_moving_track_t track[EGO_MOVING_TRACKS];
+    uint32_t time_us;      /* of the last scan */
+    uint16_t next_id;
+    uint8_t refs;          /* references held */
+    uint8_t newest;        /* the slot of the newest */
+} ego_moving_t;
+
+/* Forgets everything (init; a gap in the stream). */
+void ego_moving_reset(ego_moving_t *m);
+
+/* One scan, after ego_process gave out for it at time_us (the time it
+ * was given): writes the confirmed objects seen in it to objects (at most
+ * cap) and returns how many. Nothing (and everything starts over) when
+ * out carries no measured motion. */
+uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t time_us,
+                        const ego_output_t *out, ego_moving_object_t *objects, uint8_t cap);
+
+#endif /* EGO_MOVING_H */
