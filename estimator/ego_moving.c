@@ -22,9 +22,15 @@ typedef struct {
     fx_q2_30_t ref_cos;
 } view_t;
 
+/* A cluster's marks: its box centre, then its first and last points. */
+#define MARKS 3u
+
 typedef struct {
-    fx_q16_16_t x;
+    fx_q16_16_t x; /* box centre */
     fx_q16_16_t y;
+    fx_q16_16_t mark_x[MARKS];
+    fx_q16_16_t mark_y[MARKS];
+    bool uncut[MARKS]; /* an end is the body's own edge (the centre: true) */
     fx_q16_16_t length;
     fx_q16_16_t width;
     uint16_t points;
@@ -165,10 +171,36 @@ static void scan_point(const ego_range_scan_t *scan, uint16_t k, fx_q16_16_t *x,
     point_at(scan->origin_x, scan->origin_y, ego_range_bearing(scan, k), range_q16(scan, k), x, y);
 }
 
+/* Is a valid current point of beams [from, to) within limit (squared,
+ * Q32.32) of (x, y)? */
+static bool scan_near(const ego_range_scan_t *scan, int32_t from, int32_t to, fx_q16_16_t x,
+                      fx_q16_16_t y, uint64_t limit)
+{
+    from = (from > 0) ? from : 0;
+    to = (to < (int32_t)scan->count) ? to : (int32_t)scan->count;
+    for (int32_t k = from; k < to; k++) {
+        if (scan->range[k] == 0u) {
+            continue;
+        }
+        fx_q16_16_t px;
+        fx_q16_16_t py;
+        scan_point(scan, (uint16_t)k, &px, &py);
+        if (dist_sq(fx_sub_q16(px, x), fx_sub_q16(py, y)) < limit) {
+            return true;
+        }
+    }
+    return false;
+}
+
 /* A reference point, now at (x, y) in the current frame, is gone: the
  * current beams on both sides of it reach EGO_MOVING_BEYOND past it (or
- * have no return) and no current point lies near it. */
-static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y)
+ * have no return) and no current point lies near it. Nor did it move
+ * elsewhere: no current point of the EGO_MOVING_REVEAL_BEAMS beams on
+ * either side lies nearer it than half its distance to the point (px, py)
+ * it is evidence for (a walker stepping aside reveals the wall behind,
+ * which is no body receding). */
+static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t px,
+                     fx_q16_16_t py)
 {
     fx_q16_16_t r;
     fx_bam32_t b;
@@ -183,21 +215,12 @@ static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y)
         }
     }
     const uint32_t step = (ego_range_bearing(scan, (uint16_t)(c + 1u)) - ego_range_bearing(scan, c)) >> 16;
-    const uint64_t near = near_sq(r, step);
-    const uint16_t from = (c > 0u) ? (uint16_t)(c - 1u) : 0u;
-    const uint16_t to = (c + 3u < scan->count) ? (uint16_t)(c + 3u) : scan->count;
-    for (uint16_t k = from; k < to; k++) {
-        if (scan->range[k] == 0u) {
-            continue;
-        }
-        fx_q16_16_t px;
-        fx_q16_16_t py;
-        scan_point(scan, k, &px, &py);
-        if (dist_sq(fx_sub_q16(px, x), fx_sub_q16(py, y)) < near) {
-            return false;
-        }
+    if (scan_near(scan, (int32_t)c - 1, (int32_t)c + 3, x, y, near_sq(r, step))) {
+        return false;
     }
-    return true;
+    const uint64_t half = dist_sq(fx_sub_q16(px, x), fx_sub_q16(py, y)) / 4u;
+    return !scan_near(scan, (int32_t)c - (int32_t)EGO_MOVING_REVEAL_BEAMS,
+                      (int32_t)c + 2 + (int32_t)EGO_MOVING_REVEAL_BEAMS, x, y, half);
 }
 
 /* Is the current point (px, py) evidence of motion (ego_moving.h)? */
@@ -240,7 +263,7 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
         const fx_q16_16_t dy = fx_sub_q16(sy, ref->pose.y);
         const fx_q16_16_t cx = fx_add_q16(fx_mul_q16_q30(dx, v->ref_cos), fx_mul_q16_q30(dy, v->ref_sin));
         const fx_q16_16_t cy = fx_sub_q16(fx_mul_q16_q30(dy, v->ref_cos), fx_mul_q16_q30(dx, v->ref_sin));
-        if (vanished(v->scan, cx, cy)) {
+        if (vanished(v->scan, cx, cy, px, py)) {
             return true;
         }
     }
@@ -264,7 +287,19 @@ static bool continues(const ego_range_scan_t *scan, uint16_t k)
     return d <= EGO_MOVING_GAP && d >= -(int64_t)EGO_MOVING_GAP;
 }
 
-/* The box of beams [from, to) along their chord and across it. */
+/* Is the segment's end beam the body's own edge: its neighbour outside
+ * the segment exists (not the field's edge) and lies beyond it or has no
+ * return (nothing in front cuts it)? */
+static bool uncut(const ego_range_scan_t *scan, uint16_t end, int32_t outside)
+{
+    if (outside < 0 || outside >= (int32_t)scan->count) {
+        return false;
+    }
+    return scan->range[outside] == 0u || range_q16(scan, (uint16_t)outside) > range_q16(scan, end);
+}
+
+/* The box of beams [from, to) along their chord and across it, and the
+ * cluster's marks. */
 static void box_of(const ego_range_scan_t *scan, uint16_t from, uint16_t to, cluster_t *cl)
 {
     fx_q16_16_t fx;
@@ -308,6 +343,15 @@ static void box_of(const ego_range_scan_t *scan, uint16_t from, uint16_t to, clu
     cl->width = fx_sat_s32(wmax - wmin);
     cl->points = (uint16_t)(to - from);
     cl->track = EGO_MOVING_TRACKS;
+    const fx_q16_16_t mx[MARKS] = {cl->x, fx, lx};
+    const fx_q16_16_t my[MARKS] = {cl->y, fy, ly};
+    for (uint32_t i = 0u; i < MARKS; i++) {
+        cl->mark_x[i] = mx[i];
+        cl->mark_y[i] = my[i];
+    }
+    cl->uncut[0] = true;
+    cl->uncut[1] = uncut(scan, from, (int32_t)from - 1);
+    cl->uncut[2] = uncut(scan, (uint16_t)(to - 1u), (int32_t)to);
 }
 
 /* Is the segment [from, to) a moving cluster? */
@@ -390,7 +434,9 @@ static void predict_tracks(ego_moving_t *m, const ego_pose_t *motion, uint32_t d
             into_current(&turn, s, c, &t->vx, &t->vy);
         }
         into_current(motion, s, c, &t->x, &t->y);
-        into_current(motion, s, c, &t->anchor_x, &t->anchor_y);
+        for (uint32_t k = 0u; k < MARKS; k++) {
+            into_current(motion, s, c, &t->anchor_x[k], &t->anchor_y[k]);
+        }
         const uint64_t age = (uint64_t)t->anchor_age_us + dt_us;
         t->anchor_age_us = (age > UINT32_MAX) ? UINT32_MAX : (uint32_t)age;
     }
@@ -435,11 +481,47 @@ static fx_q16_16_t rate(fx_q16_16_t a, fx_q16_16_t b, uint32_t age_us)
     return fx_sat_s32(((int64_t)a - b) * US_PER_S / age_us);
 }
 
+static void set_anchor(ego_moving_track_t *t, const cluster_t *cl)
+{
+    for (uint32_t i = 0u; i < MARKS; i++) {
+        t->anchor_x[i] = cl->mark_x[i];
+        t->anchor_y[i] = cl->mark_y[i];
+        t->anchor_uncut[i] = cl->uncut[i];
+    }
+    t->anchor_age_us = 0u;
+}
+
+/* The cluster's velocity since the anchor: the mean of its ends' that
+ * were uncut then and now (a body's edges move with it; the centre of its
+ * visible part slides while something cuts it), else the centre's. */
+static void measure_velocity(const ego_moving_track_t *t, const cluster_t *cl, fx_q16_16_t *vx,
+                             fx_q16_16_t *vy)
+{
+    int64_t sx = 0;
+    int64_t sy = 0;
+    int32_t n = 0;
+    for (uint32_t i = 1u; i < MARKS; i++) {
+        if (t->anchor_uncut[i] && cl->uncut[i]) {
+            sx += rate(cl->mark_x[i], t->anchor_x[i], t->anchor_age_us);
+            sy += rate(cl->mark_y[i], t->anchor_y[i], t->anchor_age_us);
+            n++;
+        }
+    }
+    if (n == 0) {
+        *vx = rate(cl->mark_x[0], t->anchor_x[0], t->anchor_age_us);
+        *vy = rate(cl->mark_y[0], t->anchor_y[0], t->anchor_age_us);
+        return;
+    }
+    *vx = (fx_q16_16_t)(sx / n);
+    *vy = (fx_q16_16_t)(sy / n);
+}
+
 static void update_track(ego_moving_track_t *t, const cluster_t *cl)
 {
     if (t->anchor_age_us >= EGO_MOVING_VEL_MIN_US) {
-        const fx_q16_16_t vx = rate(cl->x, t->anchor_x, t->anchor_age_us);
-        const fx_q16_16_t vy = rate(cl->y, t->anchor_y, t->anchor_age_us);
+        fx_q16_16_t vx;
+        fx_q16_16_t vy;
+        measure_velocity(t, cl, &vx, &vy);
         if (t->known) {
             t->vx = fx_add_q16(t->vx, fx_sat_s32(((int64_t)vx - t->vx) / 4));
             t->vy = fx_add_q16(t->vy, fx_sat_s32(((int64_t)vy - t->vy) / 4));
@@ -449,9 +531,7 @@ static void update_track(ego_moving_track_t *t, const cluster_t *cl)
             t->known = true;
         }
         if (t->anchor_age_us >= EGO_MOVING_VEL_WINDOW_US) {
-            t->anchor_x = cl->x;
-            t->anchor_y = cl->y;
-            t->anchor_age_us = 0u;
+            set_anchor(t, cl);
         }
     }
     t->x = cl->x;
@@ -486,8 +566,7 @@ static void start_track(ego_moving_t *m, uint8_t slot, const cluster_t *cl)
     t->seen = true;
     t->x = cl->x;
     t->y = cl->y;
-    t->anchor_x = cl->x;
-    t->anchor_y = cl->y;
+    set_anchor(t, cl);
     t->hits = 1u;
     t->id = m->next_id;
     m->next_id = (m->next_id == UINT16_MAX) ? 1u : (uint16_t)(m->next_id + 1u);

@@ -24,7 +24,11 @@
  *   - left behind: a reference point on one of those beams lay 0.15 m to
  *     EGO_MOVING_RECEDE (4 m) in front of it and is gone now (the current
  *     beams on both sides of its bearing reach 0.15 m beyond it, and no
- *     current point is near it): a body moving away from the sensor.
+ *     current point is near it): a body moving away from the sensor;
+ *     unless a current point within EGO_MOVING_REVEAL_BEAMS (8) beams of
+ *     it lies nearer it than half its distance to the point: then it more
+ *     likely moved there (a walker stepping aside reveals the wall behind
+ *     it, which is no body receding).
  * A candidate with at least two evidence points and at least 30 % of its
  * points evidence (or EGO_MOVING_EVIDENCE_MIN, 6: a long side sliding
  * along itself gives evidence only at its front) is a moving cluster: its
@@ -35,17 +39,20 @@
  * track (constant velocity over ground) within EGO_MOVING_GATE (2 m),
  * nearest pairs first; a cluster left over starts a track. A track is
  * reported from its EGO_MOVING_CONFIRM-th (3rd) sighting on, on the scans
- * it is seen in. Its velocity is the displacement of its box centre from
- * an anchor sighting EGO_MOVING_VEL_MIN_US (0.1 s) or more before, over
- * that time (the first such measurement sets it, later ones move it a
- * quarter of the way); the anchor moves on after EGO_MOVING_VEL_WINDOW_US
- * (0.3 s). A track missed EGO_MOVING_MAX_MISSES (8) scans in a row is
+ * it is seen in. Its velocity is a displacement from an anchor sighting
+ * EGO_MOVING_VEL_MIN_US (0.1 s) or more before, over that time: of the
+ * cluster's ends that were its own edges then and now (the neighbouring
+ * beam outside reaches beyond, or has no return: a convex body's extreme
+ * points move with it), their mean; else of the box centre (the centre
+ * of the visible part slides while something cuts the body). The first
+ * such measurement sets it, later ones move it a quarter of the way; the
+ * anchor moves on after EGO_MOVING_VEL_WINDOW_US (0.3 s). A track missed EGO_MOVING_MAX_MISSES (8) scans in a row is
  * dropped. Everything is kept in the current vehicle frame (turned by
  * each motion), so no world coordinate grows without bound.
  *
  * What the host's detector does and this does not: a second, older
- * reference for slow bodies, the revealed-wall rule, velocities from a
- * body's uncut ends, holding a vehicle that gives no evidence. Measured
+ * reference for slow bodies, holding a vehicle that gives no evidence,
+ * ends that were uncut over only part of the window. Measured
  * against it in docs/experiments.md ("Moving objects").
  *
  * Static memory: ego_moving_t (EGO_MOVING_REFS references of at most
@@ -83,6 +90,7 @@
 #define EGO_MOVING_MAX_MISSES 8u
 #define EGO_MOVING_MIN_POINTS 3u
 #define EGO_MOVING_EVIDENCE_MIN 6u
+#define EGO_MOVING_REVEAL_BEAMS 8u
 /* Distances, Q16.16 m. */
 #define EGO_MOVING_MAX_RANGE FX_Q16_16_C(35.0)
 #define EGO_MOVING_GAP FX_Q16_16_C(1.0)
@@ -129,9 +137,10 @@ typedef struct {
     fx_q16_16_t y;
     fx_q16_16_t vx;        /* m/s over ground (when known) */
     fx_q16_16_t vy;
-    fx_q16_16_t anchor_x;  /* the anchor sighting's centre */
-    fx_q16_16_t anchor_y;
+    fx_q16_16_t anchor_x[3]; /* the anchor sighting's box centre, first and last point */
+    fx_q16_16_t anchor_y[3];
     uint32_t anchor_age_us;
+    bool anchor_uncut[3];  /* each end the body's own edge then */
     uint16_t id;
     uint8_t hits;          /* saturating */
     uint8_t misses;
