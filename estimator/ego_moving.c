@@ -33,8 +33,10 @@ typedef struct {
     bool uncut[MARKS]; /* an end is the body's own edge (the centre: true) */
     fx_q16_16_t length;
     fx_q16_16_t width;
+    uint16_t from;   /* its first beam */
     uint16_t points;
-    uint8_t track; /* EGO_MOVING_TRACKS: none */
+    uint8_t track;   /* EGO_MOVING_TRACKS: none */
+    bool held;       /* a segment a track holds, not a moving cluster */
 } cluster_t;
 
 static fx_q16_16_t range_q16(const ego_range_scan_t *scan, uint16_t k)
@@ -341,8 +343,10 @@ static void box_of(const ego_range_scan_t *scan, uint16_t from, uint16_t to, clu
     cl->y = fx_add_q16(fy, fx_sat_s32(fx_shr_round_s64(am * uy + wm * ux, 30u)));
     cl->length = fx_sat_s32(amax - amin);
     cl->width = fx_sat_s32(wmax - wmin);
+    cl->from = from;
     cl->points = (uint16_t)(to - from);
     cl->track = EGO_MOVING_TRACKS;
+    cl->held = false;
     const fx_q16_16_t mx[MARKS] = {cl->x, fx, lx};
     const fx_q16_16_t my[MARKS] = {cl->y, fy, ly};
     for (uint32_t i = 0u; i < MARKS; i++) {
@@ -382,21 +386,36 @@ static bool moving(const view_t *v, uint16_t from, uint16_t to)
     return ev >= 2u && (10u * ev >= 3u * n || ev >= EGO_MOVING_EVIDENCE_MIN);
 }
 
+/* The next segment [*from, *to) after *to (start with *to = 0): false
+ * when there is none. */
+static bool next_segment(const ego_range_scan_t *scan, uint16_t *from, uint16_t *to)
+{
+    uint16_t k = *to;
+    while (k < scan->count && !usable(scan, k)) {
+        k++;
+    }
+    if (k >= scan->count) {
+        return false;
+    }
+    *from = k;
+    k++;
+    while (k < scan->count && continues(scan, k)) {
+        k++;
+    }
+    *to = k;
+    return true;
+}
+
 /* The moving clusters of the scan, in scan order, at most cap. */
 static uint8_t find_clusters(const view_t *v, cluster_t *out, uint8_t cap)
 {
-    const ego_range_scan_t *scan = v->scan;
     uint8_t n = 0u;
     uint16_t from = 0u;
-    for (uint16_t k = 1u; k <= scan->count && n < cap; k++) {
-        if (k < scan->count && continues(scan, k)) {
-            continue;
+    uint16_t to = 0u;
+    while (n < cap && next_segment(v->scan, &from, &to)) {
+        if (moving(v, from, to)) {
+            box_of(v->scan, from, to, &out[n++]);
         }
-        /* [from, k) is a segment when its beams are usable. */
-        if (usable(scan, from) && moving(v, from, k)) {
-            box_of(scan, from, k, &out[n++]);
-        }
-        from = k;
     }
     return n;
 }
@@ -475,6 +494,61 @@ static void associate(ego_moving_t *m, cluster_t *cl, uint8_t n)
     }
 }
 
+/* The hold (ego_moving.h): a confirmed vehicle's track that no moving
+ * cluster matched takes the nearest other segment whose box centre lies
+ * within EGO_MOVING_HOLD_GATE of its prediction. Returns the clusters. */
+static uint8_t hold_tracks(ego_moving_t *m, const ego_range_scan_t *scan, cluster_t *cl, uint8_t n)
+{
+    const int64_t min_speed = EGO_MOVING_HOLD_MIN_SPEED;
+    for (uint8_t t = 0u; t < EGO_MOVING_TRACKS && n < EGO_MOVING_CLUSTERS; t++) {
+        ego_moving_track_t *tr = &m->track[t];
+        if (!tr->used || tr->seen || tr->hits < EGO_MOVING_CONFIRM || !tr->from_ends ||
+            tr->length < EGO_MOVING_HOLD_TRACK_LENGTH || tr->held >= EGO_MOVING_MAX_HELD ||
+            dist_sq(tr->vx, tr->vy) < (uint64_t)(min_speed * min_speed)) {
+            continue;
+        }
+        uint64_t best = (uint64_t)((int64_t)EGO_MOVING_HOLD_GATE * EGO_MOVING_HOLD_GATE);
+        bool found = false;
+        uint16_t from = 0u;
+        uint16_t to = 0u;
+        while (next_segment(scan, &from, &to)) {
+            bool taken = (uint32_t)to - from < EGO_MOVING_MIN_POINTS;
+            for (uint8_t i = 0u; i < n && !taken; i++) {
+                taken = cl[i].from == from;
+            }
+            fx_q16_16_t fx;
+            fx_q16_16_t fy;
+            fx_q16_16_t lx;
+            fx_q16_16_t ly;
+            scan_point(scan, from, &fx, &fy);
+            scan_point(scan, (uint16_t)(to - 1u), &lx, &ly);
+            const uint64_t chord = dist_sq(fx_sub_q16(lx, fx), fx_sub_q16(ly, fy));
+            const int64_t reach = (int64_t)EGO_MOVING_MAX_EXTENT + EGO_MOVING_HOLD_GATE;
+            if (taken ||
+                chord < (uint64_t)((int64_t)EGO_MOVING_HOLD_MIN_LENGTH * EGO_MOVING_HOLD_MIN_LENGTH) ||
+                chord > (uint64_t)((int64_t)EGO_MOVING_MAX_EXTENT * EGO_MOVING_MAX_EXTENT) ||
+                dist_sq(fx_sub_q16(fx, tr->x), fx_sub_q16(fy, tr->y)) > (uint64_t)(reach * reach)) {
+                continue;
+            }
+            cluster_t c;
+            box_of(scan, from, to, &c);
+            const uint64_t d = dist_sq(fx_sub_q16(c.x, tr->x), fx_sub_q16(c.y, tr->y));
+            if (d < best) {
+                best = d;
+                cl[n] = c;
+                found = true;
+            }
+        }
+        if (found) {
+            cl[n].track = t;
+            cl[n].held = true;
+            tr->seen = true;
+            n++;
+        }
+    }
+    return n;
+}
+
 /* (a - b) per second over age_us. */
 static fx_q16_16_t rate(fx_q16_16_t a, fx_q16_16_t b, uint32_t age_us)
 {
@@ -493,8 +567,9 @@ static void set_anchor(ego_moving_track_t *t, const cluster_t *cl)
 
 /* The cluster's velocity since the anchor: the mean of its ends' that
  * were uncut then and now (a body's edges move with it; the centre of its
- * visible part slides while something cuts it), else the centre's. */
-static void measure_velocity(const ego_moving_track_t *t, const cluster_t *cl, fx_q16_16_t *vx,
+ * visible part slides while something cuts it), else the centre's.
+ * True when it is the ends'. */
+static bool measure_velocity(const ego_moving_track_t *t, const cluster_t *cl, fx_q16_16_t *vx,
                              fx_q16_16_t *vy)
 {
     int64_t sx = 0;
@@ -510,10 +585,11 @@ static void measure_velocity(const ego_moving_track_t *t, const cluster_t *cl, f
     if (n == 0) {
         *vx = rate(cl->mark_x[0], t->anchor_x[0], t->anchor_age_us);
         *vy = rate(cl->mark_y[0], t->anchor_y[0], t->anchor_age_us);
-        return;
+        return false;
     }
     *vx = (fx_q16_16_t)(sx / n);
     *vy = (fx_q16_16_t)(sy / n);
+    return true;
 }
 
 static void update_track(ego_moving_track_t *t, const cluster_t *cl)
@@ -521,7 +597,7 @@ static void update_track(ego_moving_track_t *t, const cluster_t *cl)
     if (t->anchor_age_us >= EGO_MOVING_VEL_MIN_US) {
         fx_q16_16_t vx;
         fx_q16_16_t vy;
-        measure_velocity(t, cl, &vx, &vy);
+        t->from_ends = measure_velocity(t, cl, &vx, &vy);
         if (t->known) {
             t->vx = fx_add_q16(t->vx, fx_sat_s32(((int64_t)vx - t->vx) / 4));
             t->vy = fx_add_q16(t->vy, fx_sat_s32(((int64_t)vy - t->vy) / 4));
@@ -538,6 +614,12 @@ static void update_track(ego_moving_track_t *t, const cluster_t *cl)
     t->y = cl->y;
     t->hits = (t->hits < UINT8_MAX) ? (uint8_t)(t->hits + 1u) : UINT8_MAX;
     t->misses = 0u;
+    if (cl->held) {
+        t->held = (t->held < UINT8_MAX) ? (uint8_t)(t->held + 1u) : UINT8_MAX;
+    } else {
+        t->held = 0u;
+        t->length = (cl->length > t->length) ? cl->length : t->length;
+    }
 }
 
 /* A slot for a new track: a free one, else the one missed longest. */
@@ -566,6 +648,7 @@ static void start_track(ego_moving_t *m, uint8_t slot, const cluster_t *cl)
     t->seen = true;
     t->x = cl->x;
     t->y = cl->y;
+    t->length = cl->length;
     set_anchor(t, cl);
     t->hits = 1u;
     t->id = m->next_id;
@@ -626,6 +709,13 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
         m->refs = 1u;
         return 0u;
     }
+    /* A motion the estimator is unsure of would move the static world
+     * against every reference: they start over from this scan. */
+    const bool unsure = (out->flags & (EGO_FLAG_SUSPECT | EGO_FLAG_ON_OBJECTS)) != 0u ||
+                        ((out->flags & EGO_FLAG_APERTURE) == 0u &&
+                         (int64_t)out->cov.xx + out->cov.yy > EGO_MOVING_MAX_VAR_XY) ||
+                        out->cov.tt > EGO_MOVING_MAX_VAR_THETA;
+    m->refs = unsure ? 0u : m->refs;
     for (uint32_t i = 0u; i < m->refs; i++) {
         m->ref[i].pose = ego_pose_then(&m->ref[i].pose, &out->pose);
     }
@@ -633,13 +723,15 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
 
     cluster_t cl[EGO_MOVING_CLUSTERS];
     uint8_t n = 0u;
-    const uint8_t oldest = (m->refs == EGO_MOVING_REFS) ? (uint8_t)(1u - m->newest) : m->newest;
+    /* Filled in slot order, then the oldest replaced. */
+    const uint8_t oldest = (m->refs == EGO_MOVING_REFS) ? (uint8_t)((m->newest + 1u) % EGO_MOVING_REFS) : 0u;
     if (m->refs > 0u && time_us - m->ref[oldest].time_us >= EGO_MOVING_REF_MIN_US) {
         view_t v = {scan, &m->ref[oldest], 0, 0};
         fx_sincos(v.ref->pose.theta, &v.ref_sin, &v.ref_cos);
         n = find_clusters(&v, cl, EGO_MOVING_CLUSTERS);
     }
     associate(m, cl, n);
+    n = hold_tracks(m, scan, cl, n);
     for (uint8_t i = 0u; i < n; i++) {
         if (cl[i].track != EGO_MOVING_TRACKS) {
             update_track(&m->track[cl[i].track], &cl[i]);
@@ -658,7 +750,7 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
         }
     }
 
-    if (m->refs == 0u || time_us - m->ref[m->newest].time_us >= EGO_MOVING_REF_MIN_US) {
+    if (m->refs == 0u || time_us - m->ref[m->newest].time_us >= EGO_MOVING_REF_EVERY_US) {
         const uint8_t slot = (m->refs < EGO_MOVING_REFS) ? m->refs : oldest;
         take_reference(&m->ref[slot], scan, time_us);
         m->newest = slot;

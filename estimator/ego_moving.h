@@ -3,10 +3,13 @@
  * fuller detector in doubles is firmware/host/objects.h).
  *
  * After ego_process has measured a scan's motion, the scan is compared
- * with a reference scan EGO_MOVING_REF_MIN_US (0.2 s) or more older: at
- * 75 Hz consecutive scans are 13 ms apart, and a car keeping pace moves
- * 5 cm in that time, less than the range noise; over 0.2-0.4 s a
- * pedestrian walks 0.28-0.56 m, a car 1-4 m. The references' poses are
+ * with a reference scan 0.2-0.3 s older (EGO_MOVING_REF_MIN_US; one is
+ * taken every EGO_MOVING_REF_EVERY_US, 0.1 s): at 75 Hz consecutive
+ * scans are 13 ms apart, and a car keeping pace moves 5 cm in that time,
+ * less than the range noise; over 0.2-0.3 s a pedestrian walks 0.28-0.42
+ * m, a car 1-3 m. (An older reference sees slower bodies, but the
+ * ego-motion's error grows with its age: 0.2-0.4 s doubled the false
+ * objects of the busy streets at 181 values.) The references' poses are
  * chained from the estimator's motions; a line without a measured motion
  * (first, predicted, recovering, recovered) starts everything over.
  *
@@ -47,12 +50,28 @@
  * of the visible part slides while something cuts the body). The first
  * such measurement sets it, later ones move it a quarter of the way; the
  * anchor moves on after EGO_MOVING_VEL_WINDOW_US (0.3 s). A track missed EGO_MOVING_MAX_MISSES (8) scans in a row is
- * dropped. Everything is kept in the current vehicle frame (turned by
+ * dropped.
+ *
+ * Hold: a body sliding along itself whose front is out of view (an
+ * oncoming car passing alongside) gives no evidence, and neither does a
+ * car ahead pulling away slowly against a young reference. A confirmed
+ * track of a vehicle (one of its moving clusters was
+ * EGO_MOVING_HOLD_TRACK_LENGTH, 1.4 m, long: a car's back; not a
+ * pedestrian, who walks along shop fronts) whose velocity, measured from
+ * its ends, is at least EGO_MOVING_HOLD_MIN_SPEED (0.5 m/s), matched to no
+ * moving cluster, takes the nearest other segment at least
+ * EGO_MOVING_HOLD_MIN_LENGTH (1 m) long whose box centre lies within
+ * EGO_MOVING_HOLD_GATE (1 m) of its prediction, for at most
+ * EGO_MOVING_MAX_HELD (150) scans in a row; on a static segment its
+ * velocity falls below the hold speed, which ends the hold.
+ *
+ * Everything is kept in the current vehicle frame (turned by
  * each motion), so no world coordinate grows without bound.
  *
  * What the host's detector does and this does not: a second, older
- * reference for slow bodies, holding a vehicle that gives no evidence,
- * ends that were uncut over only part of the window. Measured
+ * reference for slow bodies, a wall revealed behind a walker reported
+ * once the track has evidence of its own (here such a point is simply no
+ * evidence), ends that were uncut over only part of the window. Measured
  * against it in docs/experiments.md ("Moving objects").
  *
  * Static memory: ego_moving_t (EGO_MOVING_REFS references of at most
@@ -72,14 +91,15 @@
 #include "ego_range.h"
 
 #define EGO_MOVING_REF_POINTS 192u
-#define EGO_MOVING_REFS 2u
+#define EGO_MOVING_REFS 3u
 #define EGO_MOVING_TRACKS 8u
 #define EGO_MOVING_CLUSTERS 16u
 #define EGO_MOVING_MAX_OBJECTS EGO_MOVING_TRACKS
 
 /* Times, us: the age a reference needs, and how often one is taken (with
- * two, the older is 0.2-0.4 s old). */
+ * three, the oldest is 0.2-0.3 s old). */
 #define EGO_MOVING_REF_MIN_US 200000u
+#define EGO_MOVING_REF_EVERY_US 100000u
 #define EGO_MOVING_VEL_MIN_US 100000u
 #define EGO_MOVING_VEL_WINDOW_US 300000u
 /* A longer interval between scans starts everything over, as does a line
@@ -100,6 +120,17 @@
 #define EGO_MOVING_BEYOND FX_Q16_16_C(0.15)
 #define EGO_MOVING_RECEDE FX_Q16_16_C(4.0)
 #define EGO_MOVING_GATE FX_Q16_16_C(2.0)
+#define EGO_MOVING_HOLD_GATE FX_Q16_16_C(1.0)
+#define EGO_MOVING_HOLD_MIN_LENGTH FX_Q16_16_C(1.0)
+#define EGO_MOVING_HOLD_TRACK_LENGTH FX_Q16_16_C(1.4)
+#define EGO_MOVING_HOLD_MIN_SPEED FX_Q16_16_C(0.5) /* m/s */
+#define EGO_MOVING_MAX_HELD 150u
+
+/* A line whose motion has more variance than this (Q2.30: x and y
+ * together, (1 cm)^2; theta, (1 mrad)^2), or is flagged suspect, starts
+ * the references over (its tracks go on). */
+#define EGO_MOVING_MAX_VAR_XY 107374
+#define EGO_MOVING_MAX_VAR_THETA 1074
 
 /* A velocity not known yet (the track is younger than
  * EGO_MOVING_VEL_MIN_US). */
@@ -142,8 +173,11 @@ typedef struct {
     uint32_t anchor_age_us;
     bool anchor_uncut[3];  /* each end the body's own edge then */
     uint16_t id;
+    fx_q16_16_t length;    /* the longest of its moving clusters */
     uint8_t hits;          /* saturating */
     uint8_t misses;
+    uint8_t held;          /* scans in a row on a held segment (saturating) */
+    bool from_ends;        /* the last velocity measured was its ends' */
     bool used;
     bool known;            /* the velocity */
     bool seen;             /* in this scan */
