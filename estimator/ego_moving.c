@@ -73,12 +73,12 @@ static void polar_of(fx_q16_16_t dx, fx_q16_16_t dy, fx_q16_16_t *r, fx_bam32_t 
 
 /* max(EGO_MOVING_NEAR, r * step): neighbouring beams' points lie that
  * far apart at range r. step in 2^-16 turn. */
-static uint64_t near_sq(fx_q16_16_t r, uint32_t step)
+static uint64_t near_sq(fx_q16_16_t r, uint32_t step, fx_q16_16_t extra)
 {
     /* step < 2^16 and r < 2^31: the angle (Q16.16 rad, < 2^19) first. */
     const int64_t angle = ((int64_t)step * TWO_PI_Q16) >> 16;
     const int64_t gap = ((int64_t)r * angle) >> 16;
-    const int64_t thr = (gap > EGO_MOVING_NEAR) ? gap : EGO_MOVING_NEAR;
+    const int64_t thr = ((gap > EGO_MOVING_NEAR) ? gap : EGO_MOVING_NEAR) + extra;
     return (thr >= INT32_MAX) ? UINT64_MAX : (uint64_t)(thr * thr);
 }
 
@@ -202,7 +202,7 @@ static bool scan_near(const ego_range_scan_t *scan, int32_t from, int32_t to, fx
  * it is evidence for (a walker stepping aside reveals the wall behind,
  * which is no body receding). */
 static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t px,
-                     fx_q16_16_t py)
+                     fx_q16_16_t py, fx_q16_16_t extra)
 {
     fx_q16_16_t r;
     fx_bam32_t b;
@@ -212,12 +212,12 @@ static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y,
         return false;
     }
     for (uint16_t k = c; k <= c + 1u; k++) {
-        if (scan->range[k] != 0u && range_q16(scan, k) <= fx_add_q16(r, EGO_MOVING_BEYOND)) {
+        if (scan->range[k] != 0u && range_q16(scan, k) <= fx_add_q16(r, EGO_MOVING_BEYOND + extra)) {
             return false;
         }
     }
     const uint32_t step = (ego_range_bearing(scan, (uint16_t)(c + 1u)) - ego_range_bearing(scan, c)) >> 16;
-    if (scan_near(scan, (int32_t)c - 1, (int32_t)c + 3, x, y, near_sq(r, step))) {
+    if (scan_near(scan, (int32_t)c - 1, (int32_t)c + 3, x, y, near_sq(r, step, extra))) {
         return false;
     }
     const uint64_t half = dist_sq(fx_sub_q16(px, x), fx_sub_q16(py, y)) / 4u;
@@ -239,21 +239,25 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
     if (!ref_bracket(ref, b, &j)) {
         return false;
     }
-    const uint64_t near = near_sq(r, (uint32_t)ref->offset[j + 1u] - ref->offset[j]);
+    /* The chained motion's uncertainty at this range (2 sigma, summed
+     * over its lines as if their errors added up: they often do). */
+    const int64_t slack = 2 * ((int64_t)ref->slack_xy + (((int64_t)r * ref->slack_theta) >> 16));
+    const fx_q16_16_t extra = (slack < EGO_MOVING_MAX_SLACK) ? (fx_q16_16_t)slack : EGO_MOVING_MAX_SLACK;
+    const uint64_t near = near_sq(r, (uint32_t)ref->offset[j + 1u] - ref->offset[j], extra);
     if (ref_near(ref, j, qx, qy, near)) {
         return false;
     }
     bool entered = true;
     for (uint16_t i = j; i <= j + 1u; i++) {
         entered = entered &&
-                  (ref->range_cm[i] == 0u || ref_range(ref, i) > fx_add_q16(r, EGO_MOVING_FREE_MARGIN));
+                  (ref->range_cm[i] == 0u || ref_range(ref, i) > fx_add_q16(r, EGO_MOVING_FREE_MARGIN + extra));
     }
     if (entered) {
         return true;
     }
     for (uint16_t i = j; i <= j + 1u; i++) {
         const fx_q16_16_t rho = ref_range(ref, i);
-        if (ref->range_cm[i] == 0u || rho >= fx_sub_q16(r, EGO_MOVING_BEYOND) ||
+        if (ref->range_cm[i] == 0u || rho >= fx_sub_q16(r, EGO_MOVING_BEYOND + extra) ||
             rho <= fx_sub_q16(r, EGO_MOVING_RECEDE)) {
             continue;
         }
@@ -265,7 +269,7 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
         const fx_q16_16_t dy = fx_sub_q16(sy, ref->pose.y);
         const fx_q16_16_t cx = fx_add_q16(fx_mul_q16_q30(dx, v->ref_cos), fx_mul_q16_q30(dy, v->ref_sin));
         const fx_q16_16_t cy = fx_sub_q16(fx_mul_q16_q30(dy, v->ref_cos), fx_mul_q16_q30(dx, v->ref_sin));
-        if (vanished(v->scan, cx, cy, px, py)) {
+        if (vanished(v->scan, cx, cy, px, py, extra)) {
             return true;
         }
     }
@@ -660,6 +664,10 @@ static void start_track(ego_moving_t *m, uint8_t slot, const cluster_t *cl)
 static void take_reference(ego_moving_ref_t *ref, const ego_range_scan_t *scan, uint32_t time_us)
 {
     ref->pose = (ego_pose_t){0u, 0, 0};
+    ref->slack_xy = 0;
+    ref->slack_theta = 0;
+    ref->var_xy = 0u;
+    ref->var_theta = 0u;
     ref->time_us = time_us;
     ref->origin_x = scan->origin_x;
     ref->origin_y = scan->origin_y;
@@ -709,15 +717,26 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
         m->refs = 1u;
         return 0u;
     }
-    /* A motion the estimator is unsure of would move the static world
-     * against every reference: they start over from this scan. */
-    const bool unsure = (out->flags & (EGO_FLAG_SUSPECT | EGO_FLAG_ON_OBJECTS)) != 0u ||
-                        ((out->flags & EGO_FLAG_APERTURE) == 0u &&
-                         (int64_t)out->cov.xx + out->cov.yy > EGO_MOVING_MAX_VAR_XY) ||
-                        out->cov.tt > EGO_MOVING_MAX_VAR_THETA;
-    m->refs = unsure ? 0u : m->refs;
+    /* A motion without a trustworthy covariance (suspect, on objects, not
+     * measured) would move the static world against every reference by
+     * an unknown amount: they start over from this scan. Else each
+     * reference adds the line's standard deviations to its slack. */
+    const bool unknown = (out->flags & (EGO_FLAG_SUSPECT | EGO_FLAG_ON_OBJECTS)) != 0u ||
+                         out->cov.xx == EGO_COV_SATURATED || out->cov.yy == EGO_COV_SATURATED ||
+                         out->cov.tt == EGO_COV_SATURATED;
+    m->refs = unknown ? 0u : m->refs;
+    /* Q2.30 variances -> Q16.16 deviations. An aperture's weak direction
+     * is the prediction's (its variance says nothing of it). */
+    const uint64_t var_xy = ((out->flags & EGO_FLAG_APERTURE) != 0u)
+                                ? 0u
+                                : (uint64_t)((int64_t)out->cov.xx + out->cov.yy) << 2;
     for (uint32_t i = 0u; i < m->refs; i++) {
-        m->ref[i].pose = ego_pose_then(&m->ref[i].pose, &out->pose);
+        ego_moving_ref_t *ref = &m->ref[i];
+        ref->pose = ego_pose_then(&ref->pose, &out->pose);
+        ref->var_xy += var_xy;
+        ref->var_theta += (uint64_t)(uint32_t)out->cov.tt << 2;
+        ref->slack_xy = (fx_q16_16_t)fx_sqrt_u64(ref->var_xy);
+        ref->slack_theta = (fx_q16_16_t)fx_sqrt_u64(ref->var_theta);
     }
     predict_tracks(m, &out->pose, dt_us);
 

@@ -126,11 +126,8 @@
 #define EGO_MOVING_HOLD_MIN_SPEED FX_Q16_16_C(0.5) /* m/s */
 #define EGO_MOVING_MAX_HELD 150u
 
-/* A line whose motion has more variance than this (Q2.30: x and y
- * together, (1 cm)^2; theta, (1 mrad)^2), or is flagged suspect, starts
- * the references over (its tracks go on). */
-#define EGO_MOVING_MAX_VAR_XY 107374
-#define EGO_MOVING_MAX_VAR_THETA 1074
+/* The most the chained motion's uncertainty widens the margins, Q16.16 m. */
+#define EGO_MOVING_MAX_SLACK FX_Q16_16_C(2.0)
 
 /* A velocity not known yet (the track is younger than
  * EGO_MOVING_VEL_MIN_US). */
@@ -153,6 +150,10 @@ typedef struct {
 typedef struct {
     /* Private. */
     ego_pose_t pose;       /* the current vehicle frame in this reference's */
+    fx_q16_16_t slack_xy;  /* the chained lines' translation deviations, summed, m */
+    fx_q16_16_t slack_theta; /* and their rotation deviations, rad */
+    uint64_t var_xy;
+    uint64_t var_theta;
     uint32_t time_us;
     fx_bam32_t first;      /* bearing of point 0, vehicle frame */
     fx_q16_16_t origin_x;  /* the sensor's origin, vehicle frame */
