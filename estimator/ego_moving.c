@@ -243,14 +243,22 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
      * over its lines as if their errors added up: they often do). */
     const int64_t slack = 2 * ((int64_t)ref->slack_xy + (((int64_t)r * ref->slack_theta) >> 16));
     const fx_q16_16_t extra = (slack < EGO_MOVING_MAX_SLACK) ? (fx_q16_16_t)slack : EGO_MOVING_MAX_SLACK;
+    /* The ranges alone first: most points are neither (cheap). */
+    bool entered = true;
+    bool receding = false;
+    for (uint16_t i = j; i <= j + 1u; i++) {
+        const fx_q16_16_t rho = ref_range(ref, i);
+        entered = entered &&
+                  (ref->range_cm[i] == 0u || rho > fx_add_q16(r, EGO_MOVING_FREE_MARGIN + extra));
+        receding = receding || (ref->range_cm[i] != 0u && rho < fx_sub_q16(r, EGO_MOVING_BEYOND + extra) &&
+                                rho > fx_sub_q16(r, EGO_MOVING_RECEDE));
+    }
+    if (!entered && !receding) {
+        return false;
+    }
     const uint64_t near = near_sq(r, (uint32_t)ref->offset[j + 1u] - ref->offset[j], extra);
     if (ref_near(ref, j, qx, qy, near)) {
         return false;
-    }
-    bool entered = true;
-    for (uint16_t i = j; i <= j + 1u; i++) {
-        entered = entered &&
-                  (ref->range_cm[i] == 0u || ref_range(ref, i) > fx_add_q16(r, EGO_MOVING_FREE_MARGIN + extra));
     }
     if (entered) {
         return true;
@@ -380,14 +388,22 @@ static bool moving(const view_t *v, uint16_t from, uint16_t to)
     if (dist_sq(fx_sub_q16(lx, fx), fx_sub_q16(ly, fy)) > extent) {
         return false;
     }
+    /* Moving when ev >= 2 and (10 ev >= 3 n or ev >= EGO_MOVING_EVIDENCE_MIN):
+     * ev >= need. The count stops once the answer is known. */
+    uint32_t need = (3u * n + 9u) / 10u;
+    need = (need < EGO_MOVING_EVIDENCE_MIN) ? need : EGO_MOVING_EVIDENCE_MIN;
+    need = (need > 2u) ? need : 2u;
     uint32_t ev = 0u;
     for (uint16_t k = from; k < to; k++) {
+        if (ev >= need || ev + (uint32_t)(to - k) < need) {
+            break;
+        }
         fx_q16_16_t px;
         fx_q16_16_t py;
         scan_point(scan, k, &px, &py);
         ev += evidence(v, px, py) ? 1u : 0u;
     }
-    return ev >= 2u && (10u * ev >= 3u * n || ev >= EGO_MOVING_EVIDENCE_MIN);
+    return ev >= need;
 }
 
 /* The next segment [*from, *to) after *to (start with *to = 0): false
@@ -511,14 +527,26 @@ static uint8_t hold_tracks(ego_moving_t *m, const ego_range_scan_t *scan, cluste
             dist_sq(tr->vx, tr->vy) < (uint64_t)(min_speed * min_speed)) {
             continue;
         }
+        /* The segments across the prediction's bearing (a box centre lies
+         * within its segment's bearings): at most two. */
+        fx_q16_16_t r;
+        fx_bam32_t b;
+        polar_of(fx_sub_q16(tr->x, scan->origin_x), fx_sub_q16(tr->y, scan->origin_y), &r, &b);
+        uint16_t c;
+        if (!scan_bracket(scan, b, &c)) {
+            continue;
+        }
         uint64_t best = (uint64_t)((int64_t)EGO_MOVING_HOLD_GATE * EGO_MOVING_HOLD_GATE);
         bool found = false;
         uint16_t from = 0u;
         uint16_t to = 0u;
-        while (next_segment(scan, &from, &to)) {
-            bool taken = (uint32_t)to - from < EGO_MOVING_MIN_POINTS;
+        while (next_segment(scan, &from, &to) && from <= c + 1u) {
+            bool taken = to <= c || (uint32_t)to - from < EGO_MOVING_MIN_POINTS;
             for (uint8_t i = 0u; i < n && !taken; i++) {
                 taken = cl[i].from == from;
+            }
+            if (taken) {
+                continue;
             }
             fx_q16_16_t fx;
             fx_q16_16_t fy;
@@ -527,19 +555,16 @@ static uint8_t hold_tracks(ego_moving_t *m, const ego_range_scan_t *scan, cluste
             scan_point(scan, from, &fx, &fy);
             scan_point(scan, (uint16_t)(to - 1u), &lx, &ly);
             const uint64_t chord = dist_sq(fx_sub_q16(lx, fx), fx_sub_q16(ly, fy));
-            const int64_t reach = (int64_t)EGO_MOVING_MAX_EXTENT + EGO_MOVING_HOLD_GATE;
-            if (taken ||
-                chord < (uint64_t)((int64_t)EGO_MOVING_HOLD_MIN_LENGTH * EGO_MOVING_HOLD_MIN_LENGTH) ||
-                chord > (uint64_t)((int64_t)EGO_MOVING_MAX_EXTENT * EGO_MOVING_MAX_EXTENT) ||
-                dist_sq(fx_sub_q16(fx, tr->x), fx_sub_q16(fy, tr->y)) > (uint64_t)(reach * reach)) {
+            if (chord < (uint64_t)((int64_t)EGO_MOVING_HOLD_MIN_LENGTH * EGO_MOVING_HOLD_MIN_LENGTH) ||
+                chord > (uint64_t)((int64_t)EGO_MOVING_MAX_EXTENT * EGO_MOVING_MAX_EXTENT)) {
                 continue;
             }
-            cluster_t c;
-            box_of(scan, from, to, &c);
-            const uint64_t d = dist_sq(fx_sub_q16(c.x, tr->x), fx_sub_q16(c.y, tr->y));
+            cluster_t cand;
+            box_of(scan, from, to, &cand);
+            const uint64_t d = dist_sq(fx_sub_q16(cand.x, tr->x), fx_sub_q16(cand.y, tr->y));
             if (d < best) {
                 best = d;
-                cl[n] = c;
+                cl[n] = cand;
                 found = true;
             }
         }

@@ -75,9 +75,11 @@
  * EGO_MOVING_HOLD_TRACK_LENGTH, 1.4 m, long: a car's back; not a
  * pedestrian, who walks along shop fronts) whose velocity, measured from
  * its ends, is at least EGO_MOVING_HOLD_MIN_SPEED (0.5 m/s), matched to no
- * moving cluster, takes the nearest other segment at least
- * EGO_MOVING_HOLD_MIN_LENGTH (1 m) long whose box centre lies within
- * EGO_MOVING_HOLD_GATE (1 m) of its prediction, for at most
+ * moving cluster, takes the nearest other segment across its predicted
+ * centre's bearing (at most two: a box centre lies within its segment's
+ * bearings; no sweep over the scan), at least EGO_MOVING_HOLD_MIN_LENGTH
+ * (1 m) long, whose box centre lies within EGO_MOVING_HOLD_GATE (1 m) of
+ * that prediction, for at most
  * EGO_MOVING_MAX_HELD (150) scans in a row; on a static segment its
  * velocity falls below the hold speed, which ends the hold.
  *

@@ -55,6 +55,22 @@ typedef struct {
 #define EGO_LOOP_READ_CHUNK 256u
 #define EGO_LOOP_LINE_MAX 192u
 
+/* The moving objects (ego_moving.h) cost about 3 KB of RAM in ego_loop_t
+ * and 5 KB of flash: a build for a 64 KiB part leaves them out
+ * (EGO_LOOP_OBJECTS 0, CMake option LMSEGO_LOOP_OBJECTS; config.objects
+ * is not there either). With them and config.objects, after each scan's CSV line (none after the first scan)
+ * come its confirmed objects, one line each:
+ *
+ *   o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points
+ *
+ * in the scan's vehicle frame, two decimals (the record's centimetres);
+ * vx and vy "nan" while unknown. A CSV reader that wants the motion only
+ * skips lines that start with "o,". */
+#ifndef EGO_LOOP_OBJECTS
+#define EGO_LOOP_OBJECTS 1
+#endif
+#define EGO_LOOP_OBJECTS_COLUMNS "scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points"
+
 /* Optional: called after every scan after the first with its index, its
  * time (microseconds from the first scan) and the estimator's output, for
  * host tools that keep more than the CSV line (lmsego replay --pairs,
@@ -81,10 +97,11 @@ typedef struct {
                                   after each read stamps what it read), see above */
     bool frames;               /* true: an ego_frame.h frame per scan, not the CSV line */
     bool latency;              /* true: the CSV gains latency_ms (use_clock only) */
-    bool objects;              /* true: each CSV line is followed by its scan's moving
-                                  objects, one "o," line each (EGO_LOOP_OBJECTS below;
-                                  ignored with frames, or in a build without them) */
     uint8_t line_baud;         /* lms_baud_t the bytes came at (use_clock): wire times */
+#if EGO_LOOP_OBJECTS
+    bool objects;              /* true: each CSV line is followed by its scan's moving
+                                  objects, one "o," line each (above; not with frames) */
+#endif
 } ego_loop_config_t;
 
 void ego_loop_defaults(ego_loop_config_t *config);
@@ -190,21 +207,6 @@ uint32_t ego_timing_scan(ego_timing_t *t, const uint8_t *telegram, size_t len,
 uint32_t ego_timing_track(ego_timing_t *t, uint32_t estimate_us, uint32_t steps,
                           uint32_t interval_us, uint32_t band_us);
 
-/* The moving objects (ego_moving.h) cost about 2 KB of RAM in ego_loop_t
- * and 3 KB of flash: a build for a 64 KiB part leaves them out
- * (EGO_LOOP_OBJECTS 0; CMake option LMSEGO_LOOP_OBJECTS). With them and
- * config.objects, after each scan's CSV line (none after the first scan)
- * come its confirmed objects, one line each:
- *
- *   o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points
- *
- * in the scan's vehicle frame, two decimals (the record's centimetres);
- * vx and vy "nan" while unknown. A CSV reader that wants the motion only
- * skips lines that start with "o,". */
-#ifndef EGO_LOOP_OBJECTS
-#define EGO_LOOP_OBJECTS 1
-#endif
-#define EGO_LOOP_OBJECTS_COLUMNS "scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points"
 
 typedef struct {
     /* Private. */

@@ -550,7 +550,12 @@ int replay_parse_options(const cli_command_t *self, int argc, char **argv, repla
             o->prior_path = value;
             i++;
         } else if (strcmp(arg, "--moving") == 0) {
+#if EGO_LOOP_OBJECTS
             config->objects = true;
+#else
+            return cli_usage_error(self, "this lmsego was built without", arg,
+                                   "LMSEGO_LOOP_OBJECTS=ON");
+#endif
         } else if (strcmp(arg, "--objects") == 0) {
             if (value == NULL) {
                 return cli_usage_error(self, "missing file after", arg, NULL);
@@ -619,9 +624,11 @@ int replay_parse_options(const cli_command_t *self, int argc, char **argv, repla
     if (o->path == NULL) {
         return cli_usage_error(self, "missing FILE", NULL, NULL);
     }
+#if EGO_LOOP_OBJECTS
     if (config->objects && o->frames_path != NULL) {
         return cli_usage_error(self, "--moving goes into the CSV, not with", "--frames", NULL);
     }
+#endif
     return CLI_PARSED;
 }
 

@@ -3,7 +3,9 @@
  * compiled into flash (lmsego_stream, generated from a .lms file by
  * cmake/bin2c.cmake), writing the same CSV lines to UART0. Built with
  * REPLAY_BUDGET it runs the estimator within its sensor-rate budget
- * (ego_budget_defaults: `lmsego replay --budget default` on the host).
+ * (ego_budget_defaults: `lmsego replay --budget default` on the host);
+ * with REPLAY_OBJECTS as well, the loop writes each scan's moving objects
+ * after its line (`lmsego replay --moving`; ego_loop.h).
  *
  * It also measures itself: the instructions between consecutive output
  * lines (one scan: framing, decoding, the estimator and the line), counted
@@ -43,9 +45,37 @@ static uint32_t measured;
 static uint32_t insns_max;
 static uint64_t last_mark;
 
+#if defined(REPLAY_OBJECTS)
+/* The moving objects' instructions per scan: from the end of a scan's
+ * motion line to the first write or read after it (its objects are found
+ * before their first line is written; the rest of the read chunk's
+ * framing, at most 256 bytes, is counted too). */
+static uint32_t objects_insns[MAX_MEASURED];
+static uint32_t objects_measured;
+static uint32_t objects_max;
+static uint64_t objects_mark;
+static bool objects_open;
+
+static void objects_close(void)
+{
+    if (!objects_open) {
+        return;
+    }
+    objects_open = false;
+    const uint32_t ticks = (uint32_t)((target_instructions() - objects_mark) / TARGET_INSNS_PER_TICK);
+    objects_max = (ticks > objects_max) ? ticks : objects_max;
+    if (objects_measured < MAX_MEASURED) {
+        objects_insns[objects_measured++] = ticks;
+    }
+}
+#endif
+
 static int32_t hal_read(void *ctx, uint8_t *buf, size_t cap)
 {
     (void)ctx;
+#if defined(REPLAY_OBJECTS)
+    objects_close();
+#endif
     if (stream_pos >= lmsego_stream_size) {
         return -1;
     }
@@ -61,7 +91,18 @@ static int32_t hal_read(void *ctx, uint8_t *buf, size_t cap)
 static void hal_write(void *ctx, const uint8_t *buf, size_t len)
 {
     (void)ctx;
+#if defined(REPLAY_OBJECTS)
+    objects_close();
+#endif
     target_uart_write(buf, len);
+#if defined(REPLAY_OBJECTS)
+    /* A motion line (it starts with its scan number; the header and the
+     * objects' lines with a letter): its objects come next. */
+    if (len > 0u && buf[0] >= (uint8_t)'0' && buf[0] <= (uint8_t)'9') {
+        objects_open = true;
+        objects_mark = target_instructions();
+    }
+#endif
 }
 
 static uint32_t hal_now_us(void *ctx)
@@ -165,6 +206,9 @@ int main(void)
 #if defined(REPLAY_SWEEP_INSTANT)
     config.lms.timing = (uint8_t)EGO_LMS_TIMING_INSTANT; /* a simulator's stream */
 #endif
+#if defined(REPLAY_OBJECTS)
+    config.objects = true; /* each line's moving objects (ego_loop.h) */
+#endif
     config.observer = observe;
     ego_loop_init(&loop, &config);
     const ego_hal_t hal = {hal_read, hal_write, hal_now_us, NULL};
@@ -193,6 +237,12 @@ int main(void)
                                                                             : config.ego.work_min));
 #endif
     report_field(" scans=", ego_loop_stats(&loop)->scans);
+#if defined(REPLAY_OBJECTS)
+    objects_close();
+    report_field("\n# objects_insns median=",
+                 (uint64_t)report_median(objects_insns, objects_measured) * TARGET_INSNS_PER_TICK);
+    report_field(" max=", (uint64_t)objects_max * TARGET_INSNS_PER_TICK);
+#endif
 #if defined(EGO_PROFILE)
     ego_profile_stage(EGO_STAGE_OTHER, units_mark);
     report_stages("\n# stage_insns", stage_insns);
