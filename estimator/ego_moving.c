@@ -20,6 +20,8 @@ typedef struct {
     const ego_moving_ref_t *ref;
     fx_q2_30_t ref_sin; /* of ref->pose.theta */
     fx_q2_30_t ref_cos;
+    uint32_t *units;    /* the scan's work so far (ego_moving.h) */
+    uint32_t max_units; /* where its evidence tests stop */
 } view_t;
 
 /* A cluster's marks: its box centre, then its first and last points. */
@@ -225,23 +227,64 @@ static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y,
                       (int32_t)c + 2 + (int32_t)EGO_MOVING_REVEAL_BEAMS, x, y, half);
 }
 
+static fx_q16_16_t range_of(fx_q16_16_t dx, fx_q16_16_t dy)
+{
+    const uint32_t root = fx_sqrt_u64(dist_sq(dx, dy));
+    return (root > (uint32_t)INT32_MAX) ? INT32_MAX : (fx_q16_16_t)root;
+}
+
+/* (a)^2 for a >= 0, Q32.32; 0 for a <= 0. */
+static uint64_t square_pos(int64_t a)
+{
+    return (a > 0) ? (uint64_t)(a * a) : 0u;
+}
+
+/* Could a point at squared range d2 from the reference's origin, between
+ * its beams j and j + 1, be evidence? The range tests of evidence() on
+ * squares (no square root), with the least slack (at range 0) and a unit
+ * of the last place to spare (evidence() rounds the root): every point
+ * evidence() takes passes, most static points do not. */
+static bool maybe_evidence(const ego_moving_ref_t *ref, uint16_t j, uint64_t d2)
+{
+    const int64_t slack = 2 * (int64_t)ref->slack_xy;
+    const int64_t extra = (slack < EGO_MOVING_MAX_SLACK) ? slack : EGO_MOVING_MAX_SLACK;
+    bool entered = true;
+    for (uint16_t i = j; i <= j + 1u; i++) {
+        const int64_t rho = ref_range(ref, i);
+        if (ref->range_cm[i] == 0u) {
+            continue;
+        }
+        /* Entered: rho > r + margin + extra. Receding: r in
+         * (rho + beyond + extra, rho + recede). */
+        entered = entered && square_pos(rho - EGO_MOVING_FREE_MARGIN - extra + 1) > d2;
+        if (d2 > square_pos(rho + EGO_MOVING_BEYOND + extra - 1) &&
+            d2 < square_pos(rho + EGO_MOVING_RECEDE + 1)) {
+            return true;
+        }
+    }
+    return entered;
+}
+
 /* Is the current point (px, py) evidence of motion (ego_moving.h)? */
 static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
 {
+    *v->units += EGO_MOVING_UNITS_POINT;
     const ego_moving_ref_t *ref = v->ref;
     fx_q16_16_t qx;
     fx_q16_16_t qy;
     ego_pose_apply(&ref->pose, v->ref_sin, v->ref_cos, px, py, &qx, &qy);
-    fx_q16_16_t r;
-    fx_bam32_t b;
-    polar_of(fx_sub_q16(qx, ref->origin_x), fx_sub_q16(qy, ref->origin_y), &r, &b);
+    const fx_q16_16_t ox = fx_sub_q16(qx, ref->origin_x);
+    const fx_q16_16_t oy = fx_sub_q16(qy, ref->origin_y);
     uint16_t j;
-    if (!ref_bracket(ref, b, &j)) {
+    if (!ref_bracket(ref, fx_atan2_quick(oy, ox), &j)) {
         return false;
     }
-    /* The chained motion's uncertainty at this range (2 sigma, summed
-     * over its lines as if their errors added up: they often do). */
-    const int64_t slack = 2 * ((int64_t)ref->slack_xy + (((int64_t)r * ref->slack_theta) >> 16));
+    if (!maybe_evidence(ref, j, dist_sq(ox, oy))) {
+        return false;
+    }
+    const fx_q16_16_t r = range_of(ox, oy);
+    /* The chained motion's uncertainty at this range (2 sigma: the root
+     * sum of the lines' variances since the reference). */    const int64_t slack = 2 * ((int64_t)ref->slack_xy + (((int64_t)r * ref->slack_theta) >> 16));
     const fx_q16_16_t extra = (slack < EGO_MOVING_MAX_SLACK) ? (fx_q16_16_t)slack : EGO_MOVING_MAX_SLACK;
     /* The ranges alone first: most points are neither (cheap). */
     bool entered = true;
@@ -257,6 +300,7 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
         return false;
     }
     const uint64_t near = near_sq(r, (uint32_t)ref->offset[j + 1u] - ref->offset[j], extra);
+    *v->units += EGO_MOVING_UNITS_NEAR;
     if (ref_near(ref, j, qx, qy, near)) {
         return false;
     }
@@ -277,6 +321,7 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
         const fx_q16_16_t dy = fx_sub_q16(sy, ref->pose.y);
         const fx_q16_16_t cx = fx_add_q16(fx_mul_q16_q30(dx, v->ref_cos), fx_mul_q16_q30(dy, v->ref_sin));
         const fx_q16_16_t cy = fx_sub_q16(fx_mul_q16_q30(dy, v->ref_cos), fx_mul_q16_q30(dx, v->ref_sin));
+        *v->units += EGO_MOVING_UNITS_VANISHED;
         if (vanished(v->scan, cx, cy, px, py, extra)) {
             return true;
         }
@@ -398,6 +443,9 @@ static bool moving(const view_t *v, uint16_t from, uint16_t to)
         if (ev >= need || ev + (uint32_t)(to - k) < need) {
             break;
         }
+        if (*v->units >= v->max_units) {
+            return false; /* the scan's work is spent */
+        }
         fx_q16_16_t px;
         fx_q16_16_t py;
         scan_point(scan, k, &px, &py);
@@ -435,6 +483,7 @@ static uint8_t find_clusters(const view_t *v, cluster_t *out, uint8_t cap)
     while (n < cap && next_segment(v->scan, &from, &to)) {
         if (moving(v, from, to)) {
             box_of(v->scan, from, to, &out[n++]);
+            *v->units += (uint32_t)to - from;
         }
     }
     return n;
@@ -561,6 +610,7 @@ static uint8_t hold_tracks(ego_moving_t *m, const ego_range_scan_t *scan, cluste
             }
             cluster_t cand;
             box_of(scan, from, to, &cand);
+            m->units += (uint32_t)to - from;
             const uint64_t d = dist_sq(fx_sub_q16(cand.x, tr->x), fx_sub_q16(cand.y, tr->y));
             if (d < best) {
                 best = d;
@@ -735,6 +785,7 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
 {
     const uint32_t dt_us = time_us - m->time_us;
     m->time_us = time_us;
+    m->units = 0u;
     if ((out->flags & UNMEASURED) != 0u || dt_us == 0u || dt_us > EGO_MOVING_MAX_DT_US) {
         ego_moving_reset(m);
         m->time_us = time_us;
@@ -770,7 +821,8 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
     /* Filled in slot order, then the oldest replaced. */
     const uint8_t oldest = (m->refs == EGO_MOVING_REFS) ? (uint8_t)((m->newest + 1u) % EGO_MOVING_REFS) : 0u;
     if (m->refs > 0u && time_us - m->ref[oldest].time_us >= EGO_MOVING_REF_MIN_US) {
-        view_t v = {scan, &m->ref[oldest], 0, 0};
+        view_t v = {scan, &m->ref[oldest], 0, 0, &m->units,
+                    (uint32_t)scan->count * EGO_MOVING_UNITS_PER_BEAM};
         fx_sincos(v.ref->pose.theta, &v.ref_sin, &v.ref_cos);
         n = find_clusters(&v, cl, EGO_MOVING_CLUSTERS);
     }

@@ -147,6 +147,20 @@
 /* The most the chained motion's uncertainty widens the margins, Q16.16 m. */
 #define EGO_MOVING_MAX_SLACK FX_Q16_16_C(2.0)
 
+/* Work units: a point tested for evidence, its test against the
+ * reference's neighbours (an upper bound: four points), a vanished
+ * point's tests (its bracket and up to 22 current points), a point of a
+ * box. A scan stops testing for evidence at EGO_MOVING_UNITS_PER_BEAM
+ * units per beam of the scan (its remaining segments are not moving
+ * clusters; the tracks and the hold go on), so its work is bounded on any
+ * input (docs/firmware.md measures the instructions a unit costs). The
+ * busy streets took at most 5.4 a beam (pedestrians at 361 values), most
+ * scans 2 to 3. */
+#define EGO_MOVING_UNITS_POINT 1u
+#define EGO_MOVING_UNITS_NEAR 4u
+#define EGO_MOVING_UNITS_VANISHED 24u
+#define EGO_MOVING_UNITS_PER_BEAM 6u
+
 /* A velocity not known yet (the track is younger than
  * EGO_MOVING_VEL_MIN_US). */
 #define EGO_MOVING_UNKNOWN INT16_MIN
@@ -207,6 +221,10 @@ typedef struct {
     ego_moving_ref_t ref[EGO_MOVING_REFS];
     ego_moving_track_t track[EGO_MOVING_TRACKS];
     uint32_t time_us;      /* of the last scan */
+    uint32_t units;        /* public: the last scan's work: its evidence tests stop
+                              at EGO_MOVING_UNITS_PER_BEAM units a beam (the last
+                              one may cross it by up to 53), plus a unit per
+                              point of each box */
     uint16_t next_id;
     uint8_t refs;          /* references held */
     uint8_t newest;        /* the slot of the newest */
