@@ -10,6 +10,8 @@
 #
 #   LMSEGO_INSNS_GATE_<BUILD TYPE>_<stream>         (replay_<stream>, unbounded)
 #   LMSEGO_INSNS_GATE_<BUILD TYPE>_budget_<stream>  (budget_<stream>, where set)
+#   LMSEGO_INSNS_GATE_<BUILD TYPE>_objects_<stream> (objects_<stream>: within the
+#       budget, with the moving objects, ego_moving.h)
 
 # -Os (presets cortex-m3, cortex-m4f): measured 2026-12-02 on Cortex-M3 after
 # the full search's projections and tracking registrations (issue 15), plus
@@ -112,3 +114,15 @@ set(LMSEGO_INSNS_GATE_MINSIZEREL_overtake_181_cm 1198000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_crossing_181_cm 1075000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_pedestrians_181_cm 1135000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_stopgo_181_cm 1005000)
+
+# The busy streets with the moving objects (issue 17 item 3, the objects
+# images: estimator within its budget, plus ego_moving_scan and the "o,"
+# lines), measured 2026-12-04 on Cortex-M3 -Os, plus 2 %.
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_traffic_181_cm 733100)  # M3 718680
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_traffic_361_cm 1335800)  # M3 1309560
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_pedestrians_181_cm 705100)  # M3 691280
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_crossing_181_cm 652200)  # M3 639400
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_stopgo_181_cm 648500)  # M3 635760
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_overtake_181_cm 671200)  # M3 658000
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_181_cm 582700)  # M3 571280
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_361_cm 980400)  # M3 961160
