@@ -435,9 +435,14 @@ static bool moving(const view_t *v, uint16_t from, uint16_t to)
     }
     /* Moving when ev >= 2 and (10 ev >= 3 n or ev >= EGO_MOVING_EVIDENCE_MIN):
      * ev >= need. The count stops once the answer is known. */
-    uint32_t need = (3u * n + 9u) / 10u;
-    need = (need < EGO_MOVING_EVIDENCE_MIN) ? need : EGO_MOVING_EVIDENCE_MIN;
-    need = (need > 2u) ? need : 2u;
+    const uint32_t share = (3u * n + 9u) / 10u; /* 30 % of the points, rounded up */
+    uint32_t need = EGO_MOVING_EVIDENCE_MIN;
+    if (share < need) {
+        need = share;
+    }
+    if (need < 2u) {
+        need = 2u;
+    }
     uint32_t ev = 0u;
     for (uint16_t k = from; k < to; k++) {
         if (ev >= need || ev + (uint32_t)(to - k) < need) {
@@ -771,7 +776,13 @@ void ego_moving_reset(ego_moving_t *m)
 static int16_t cm_of(fx_q16_16_t v)
 {
     const int64_t cm = fx_shr_round_s64((int64_t)v * 100, 16u);
-    return (cm > INT16_MAX) ? INT16_MAX : (cm < INT16_MIN + 1) ? (int16_t)(INT16_MIN + 1) : (int16_t)cm;
+    if (cm > INT16_MAX) {
+        return (int16_t)INT16_MAX;
+    }
+    if (cm <= INT16_MIN) {
+        return (int16_t)(INT16_MIN + 1); /* INT16_MIN is EGO_MOVING_UNKNOWN */
+    }
+    return (int16_t)cm;
 }
 
 static uint16_t ucm_of(fx_q16_16_t v)
@@ -869,8 +880,12 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
         o->cy_cm = cm_of(cl[i].y);
         o->length_cm = ucm_of(cl[i].length);
         o->width_cm = ucm_of(cl[i].width);
-        o->vx_cms = tr->known ? cm_of(tr->vx) : EGO_MOVING_UNKNOWN;
-        o->vy_cms = tr->known ? cm_of(tr->vy) : EGO_MOVING_UNKNOWN;
+        o->vx_cms = (int16_t)EGO_MOVING_UNKNOWN;
+        o->vy_cms = (int16_t)EGO_MOVING_UNKNOWN;
+        if (tr->known) {
+            o->vx_cms = cm_of(tr->vx);
+            o->vy_cms = cm_of(tr->vy);
+        }
     }
     return written;
 }
