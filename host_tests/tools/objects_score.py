@@ -2,7 +2,8 @@
 """Score `lmsego replay --objects` against lmsworld's moving-object truth.
 
 usage: objects_score.py TRUTH.objects OURS.csv [--from K] [--range 30] [--min-returns 5]
-                        [--gate 1.5] [--min-detected F] [--max-false F] [--max-vel-median V]
+                        [--gate 1.5] [--min-detected F] [--min-pedestrians F] [--max-false F]
+                        [--max-vel-median V]
 
 TRUTH.objects: `scan id cx cy heading vx vy length width returns` (lmsworld
 --objects; docs/synthetic-worlds.md). OURS.csv: the header
@@ -94,6 +95,7 @@ def main():
     ap.add_argument('--gate', type=float, default=1.5)
     ap.add_argument('--min-speed', type=float, default=0.5)
     ap.add_argument('--min-detected', type=float)
+    ap.add_argument('--min-pedestrians', type=float)
     ap.add_argument('--max-false', type=float)
     ap.add_argument('--max-vel-median', type=float)
     a = ap.parse_args()
@@ -166,6 +168,9 @@ def main():
           f'vel_mean {statistics.mean(vel_err) if vel_err else float("nan"):.3f}')
     if a.min_detected is not None and not share['vehicle'] >= a.min_detected:
         print(f'FAIL: vehicle share {share["vehicle"]:.3f} < {a.min_detected}')
+        ok = False
+    if a.min_pedestrians is not None and not share['pedestrian'] >= a.min_pedestrians:
+        print(f'FAIL: pedestrian share {share["pedestrian"]:.3f} < {a.min_pedestrians}')
         ok = False
     if a.max_false is not None and false / n > a.max_false:
         print(f'FAIL: false per scan {false / n:.3f} > {a.max_false}')
