@@ -328,7 +328,13 @@ static EGO_NOINLINE void write_objects(ego_loop_t *loop, const ego_hal_t *hal, u
 {
     ego_moving_object_t found[EGO_MOVING_MAX_OBJECTS];
     const uint8_t n = ego_moving_scan(&loop->moving, range, t_us, out, found, EGO_MOVING_MAX_OBJECTS);
-    if (k == 0u || loop->config.frames) {
+    if (k == 0u) {
+        return;
+    }
+    if (loop->config.objects_observer != NULL) {
+        loop->config.objects_observer(loop->config.objects_ctx, k, found, n);
+    }
+    if (!loop->config.objects || loop->config.frames) {
         return;
     }
     for (uint8_t i = 0u; i < n; i++) {
@@ -376,7 +382,7 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t track_us)
     }
     if (k == 0u) {
 #if EGO_LOOP_OBJECTS
-        if (loop->config.objects) {
+        if (loop->config.objects || loop->config.objects_observer != NULL) {
             write_objects(loop, hal, k, &range, t_us, &out); /* its first reference */
         }
 #endif
@@ -393,7 +399,7 @@ static void on_scan(ego_loop_t *loop, const ego_hal_t *hal, uint32_t track_us)
         write_line(loop, hal, k, t_us, &out);
     }
 #if EGO_LOOP_OBJECTS
-    if (loop->config.objects) {
+    if (loop->config.objects || loop->config.objects_observer != NULL) {
         write_objects(loop, hal, k, &range, t_us, &out);
     }
 #endif

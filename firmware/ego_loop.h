@@ -78,6 +78,14 @@ typedef struct {
 typedef void (*ego_loop_observer_fn)(void *ctx, uint32_t scan, uint32_t time_us,
                                      const ego_output_t *out);
 
+#if EGO_LOOP_OBJECTS
+/* Optional: called with the moving objects of every scan after the first
+ * (n of them, maybe 0), after its line or frame, for host tools that
+ * write them elsewhere (lmsego replay --objects). */
+typedef void (*ego_loop_objects_fn)(void *ctx, uint32_t scan, const ego_moving_object_t *objects,
+                                    uint8_t n);
+#endif
+
 /* Optional: a motion prior for scan k (its pose in the frame of scan
  * k - 1), e.g. from wheel odometry; return false when there is none. */
 typedef bool (*ego_loop_prior_fn)(void *ctx, uint32_t scan, ego_pose_t *prior);
@@ -101,6 +109,8 @@ typedef struct {
 #if EGO_LOOP_OBJECTS
     bool objects;              /* true: each CSV line is followed by its scan's moving
                                   objects, one "o," line each (above; not with frames) */
+    ego_loop_objects_fn objects_observer; /* NULL: none */
+    void *objects_ctx;
 #endif
 } ego_loop_config_t;
 

@@ -58,14 +58,16 @@
  * `i j ...` with i = j - K is the prior of stream scan (j - O) / K.
  * The CSV keeps counting stream scans.
  *
- * --objects OUT writes the moving objects of every scan (objects.h says
- * how they are found): a header line, then one line per object and scan,
- * `scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points`, in the
+ * --objects OUT writes the moving objects of every scan: the firmware
+ * loop's own (estimator/ego_moving.h says how they are found; fixed
+ * point, the target's bits): a header line, then one line per object and
+ * scan, `scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points`, in the
  * vehicle frame of that scan (x forward, y left), the velocity over
- * ground ("nan" until the object's track spans 0.1 s).
+ * ground ("nan" until the object's track spans 0.1 s), two decimals (the
+ * record's centimetres).
  *
- * --moving: the firmware loop's own compact objects (ego_moving.h, fixed
- * point, what the target prints): each CSV line is followed by its scan's
+ * --moving: the same objects in the CSV itself, as the firmware writes
+ * them: each CSV line is followed by its scan's
  * "o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points" lines
  * (ego_loop.h). Not with --frames.
  */
@@ -79,7 +81,6 @@
 #include "commands.h"
 #include "ego_loop.h"
 #include "live_common.h"
-#include "objects.h"
 #include "stream_file.h"
 #include "stream_frames.h"
 
@@ -112,59 +113,30 @@ typedef struct {
     uint32_t ref;
     uint32_t target;
     FILE *objects;            /* --objects, or NULL */
-    const ego_loop_t *loop;   /* --objects: its decoded scan */
-    obj_tracker_t *tracker;
 } replay_io_t;
 
-/* --objects: the moving objects of scan (whose values the loop has turned
- * into ranges in place, ego_lms.h) on their line. */
-static void observe_objects(replay_io_t *io, uint32_t scan, uint32_t time_us,
-                            const ego_output_t *out)
+#if EGO_LOOP_OBJECTS
+/* --objects: the loop's moving objects of scan (ego_moving.h), metres
+ * and m/s from their centimetres. */
+static void observe_objects(void *ctx, uint32_t scan, const ego_moving_object_t *objects, uint8_t n)
 {
-    const lms_scan_t *lms = &io->loop->scan;
-    lms_layout_t layout;
-    if (lms_scan_layout(lms, &layout) != LMS_OK || lms->count > OBJ_MAX_BEAMS) {
-        return;
-    }
-    const double pi = 3.14159265358979323846;
-    const double unit_m = (lms->unit == LMS_UNIT_CM) ? 0.01 : 0.001;
-    const ego_lms_params_t *mount = &io->loop->config.lms;
-    double range[OBJ_MAX_BEAMS];
-    for (uint32_t k = 0u; k < lms->count; k++) {
-        range[k] = (double)lms->values[k] * unit_m;
-    }
-    obj_scan_t in;
-    in.count = lms->count;
-    /* The LMS angle minus 90 deg, turned by the mounting angle (ego_lms.c). */
-    in.first_bearing = ((double)layout.start_cdeg - 9000.0) * (pi / 18000.0) +
-                       (double)fx_bam32_diff(mount->mount_theta, 0u) * (pi / 2147483648.0);
-    in.bearing_step = (double)layout.step_cdeg * (pi / 18000.0);
-    in.origin_x = (double)mount->mount_x / 65536.0;
-    in.origin_y = (double)mount->mount_y / 65536.0;
-    in.range = range;
-    const uint32_t unmeasured =
-        EGO_FLAG_FIRST | EGO_FLAG_PREDICTED | EGO_FLAG_RECOVERING | EGO_FLAG_RECOVERED;
-    obj_object_t found[OBJ_MAX_OBJECTS];
-    const size_t n = obj_scan(io->tracker, scan, (double)time_us * 1e-6,
-                              (out->flags & unmeasured) == 0u, (double)out->pose.x / 65536.0,
-                              (double)out->pose.y / 65536.0,
-                              (double)fx_bam32_diff(out->pose.theta, 0u) * (pi / 2147483648.0),
-                              &in, found, OBJ_MAX_OBJECTS);
-    for (size_t i = 0u; i < n; i++) {
-        const obj_object_t *o = &found[i];
+    replay_io_t *io = ctx;
+    for (uint8_t i = 0u; i < n; i++) {
+        const ego_moving_object_t *o = &objects[i];
         char v[64];
-        if (isfinite(o->vx) && isfinite(o->vy)) {
-            (void)snprintf(v, sizeof v, "%.3f,%.3f", o->vx, o->vy);
-        } else {
+        if (o->vx_cms == EGO_MOVING_UNKNOWN) {
             (void)snprintf(v, sizeof v, "nan,nan");
+        } else {
+            (void)snprintf(v, sizeof v, "%.2f,%.2f", o->vx_cms / 100.0, o->vy_cms / 100.0);
         }
-        if (fprintf(io->objects, "%lu,%lu,%.3f,%.3f,%.3f,%.3f,%s,%u\n", (unsigned long)scan,
-                    (unsigned long)o->id, o->cx, o->cy, o->length, o->width, v,
-                    (unsigned)o->points) < 0) {
+        if (fprintf(io->objects, "%lu,%u,%.2f,%.2f,%.2f,%.2f,%s,%u\n", (unsigned long)scan,
+                    (unsigned)o->id, o->cx_cm / 100.0, o->cy_cm / 100.0, o->length_cm / 100.0,
+                    o->width_cm / 100.0, v, (unsigned)o->points) < 0) {
             io->write_failed = 1;
         }
     }
 }
+#endif
 
 /* Output of one scan: the extra files (host-only, doubles are fine). */
 static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output_t *out)
@@ -172,9 +144,6 @@ static void observe(void *ctx, uint32_t scan, uint32_t time_us, const ego_output
     replay_io_t *io = ctx;
     io->wrapped |= time_us < io->last_time_us;
     io->last_time_us = time_us;
-    if (io->objects != NULL) {
-        observe_objects(io, scan, time_us, out);
-    }
     io->recovering = ((out->flags & EGO_FLAG_RECOVERING) != 0u) ? io->recovering + 1ul : 0ul;
     const double dx = (double)out->pose.x / 65536.0;
     const double dy = (double)out->pose.y / 65536.0;
@@ -454,17 +423,16 @@ static const char help[] =
     "  --objects OUT writes the moving objects of each scan with a measured motion:\n"
     "                a header, then per object and scan\n"
     "                'scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points': the\n"
-    "                centre and the sides of the box around its points along their\n"
-    "                principal axes (m, the scan's vehicle frame: x forward, y left),\n"
-    "                its velocity over ground in that frame (m/s; nan until its track\n"
-    "                spans 0.1 s), its points; id is stable while it is tracked. Found\n"
-    "                against the scan 0.2 s earlier (docs/experiments.md, \"Moving\n"
-    "                objects\"); a line without a measured motion starts over\n"
-    "  --moving      the firmware's compact moving objects in the CSV itself: after\n"
-    "                each line, one line per object of its scan,\n"
-    "                'o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points' (as\n"
-    "                --objects, in centimetres; the box along the cluster's chord;\n"
-    "                fixed point, the target's bits: estimator/ego_moving.h); not\n"
+    "                centre and the sides of the box around its points along the\n"
+    "                cluster's chord and across it (m, the scan's vehicle frame: x\n"
+    "                forward, y left), its velocity over ground in that frame (m/s;\n"
+    "                nan until its track spans 0.1 s), its points; id is stable\n"
+    "                while it is tracked. Found against scans 0.2-0.3 s earlier by\n"
+    "                the firmware loop itself (estimator/ego_moving.h, fixed point);\n"
+    "                a line without a measured motion starts over\n"
+    "  --moving      the same objects in the CSV itself, as the firmware writes them:\n"
+    "                after each line, one line per object of its scan,\n"
+    "                'o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points'; not\n"
     "                with --frames\n"
     "  --scan-step K, --scan-offset O  stream scan s is log scan O + s K (import-carmen\n"
     "                --stride K --offset O): --prior and --pairs count log scans\n"
@@ -560,6 +528,10 @@ int replay_parse_options(const cli_command_t *self, int argc, char **argv, repla
             if (value == NULL) {
                 return cli_usage_error(self, "missing file after", arg, NULL);
             }
+#if !EGO_LOOP_OBJECTS
+            return cli_usage_error(self, "this lmsego was built without", arg,
+                                   "LMSEGO_LOOP_OBJECTS=ON");
+#endif
             o->objects_path = value;
             i++;
         } else if (strcmp(arg, "--pairs") == 0 || strcmp(arg, "--tum") == 0 ||
@@ -651,7 +623,6 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
     const char *tum_path = o.tum_path;
     const char *frames_path = o.frames_path;
     const char *objects_path = o.objects_path;
-    static obj_tracker_t tracker;
     const unsigned long scan_step = o.scan_step;
     const unsigned long scan_offset = o.scan_offset;
     const int times_index = o.times_index;
@@ -703,14 +674,15 @@ int cmd_replay(const cli_command_t *self, int argc, char **argv)
         return cli_usage_error(self, "--times arrival needs a recording with arrival times",
                                shown, "a raw stream has none");
     }
+#if EGO_LOOP_OBJECTS
     if (io.objects != NULL) {
-        obj_init(&tracker);
-        io.tracker = &tracker;
-        io.loop = &loop;
-        if (fputs(OBJ_CSV_HEADER, io.objects) == EOF) {
+        config.objects_observer = observe_objects;
+        config.objects_ctx = &io;
+        if (fputs(EGO_LOOP_OBJECTS_COLUMNS "\n", io.objects) == EOF) {
             io.write_failed = 1;
         }
     }
+#endif
     if (io.tum != NULL) { /* the first scan, at the origin */
         (void)fprintf(io.tum, "%.6f 0.000000 0.000000 0 0 0 0.000000000 1.000000000\n", 0.0);
     }

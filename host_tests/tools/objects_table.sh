@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# objects_table.sh [BIN_DIR [OUT_DIR [moving]]]: the moving objects of issue 17,
+# objects_table.sh [BIN_DIR [OUT_DIR]]: the moving objects of issue 17,
 # item 3 (docs/experiments.md, "Moving objects (issue 17, item 3)"): each
 # full-length lmsworld busy-street scenario at 181 and 361 values,
 # replayed as cast (--sweep instant) with `lmsego replay --objects`, and
@@ -9,16 +9,11 @@
 # separates the detector's errors from the ego-motion's (the estimator
 # misbehaves on the platoon without a prior, docs/experiments.md "Busy
 # streets": its first columns measure that). About 70 s on two cores.
-# BIN_DIR holds lmsworld and lmsego (default build/release/bin). With
-# "moving" as the third argument it scores the firmware loop's compact
-# objects instead (`lmsego replay --moving`: the "o," lines,
-# estimator/ego_moving.h).
-#
+# BIN_DIR holds lmsworld and lmsego (default build/release/bin).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 bin=${1:-build/release/bin}
 out=${2:-$(mktemp -d)}
-mode=${3:-host}
 mkdir -p "${out}"
 
 # One scoring as a table's cells: vehicle targets, detected, pedestrian
@@ -52,14 +47,8 @@ for scenario in traffic platoon overtake crossing pedestrians stopgo; do
             if [[ ${run} == prior ]]; then
                 prior=(--prior "${out}/${name}.pairs")
             fi
-            if [[ ${mode} == moving ]]; then
-                "${bin}/lmsego" replay --sweep instant "${prior[@]}" --moving "${out}/${name}.lms" \
-                    2>/dev/null | awk 'BEGIN {print "scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points"}
-                                       /^o,/ {print substr($0, 3)}' >"${out}/${name}_${run}.csv"
-            else
-                "${bin}/lmsego" replay --sweep instant "${prior[@]}" \
-                    --objects "${out}/${name}_${run}.csv" "${out}/${name}.lms" >/dev/null 2>&1
-            fi
+            "${bin}/lmsego" replay --sweep instant "${prior[@]}" \
+                --objects "${out}/${name}_${run}.csv" "${out}/${name}.lms" >/dev/null 2>&1
             python3 "${here}/objects_score.py" "${out}/${name}.objects" "${out}/${name}_${run}.csv" \
                 --from "${first}" >"${out}/${name}_${run}.score"
         done
