@@ -233,10 +233,11 @@ typedef struct {
 /* Forgets everything (init; a gap in the stream). */
 void ego_moving_reset(ego_moving_t *m);
 
-/* One scan, after ego_process gave out for it at time_us (the time it
- * was given): writes the confirmed objects seen in it to objects (at most
- * cap) and returns how many. Nothing (and everything starts over) when
- * out carries no measured motion. */
+/* One scan, after ego_process accepted it (it passed ego_range_check)
+ * and gave out for it at time_us (the time it was given): writes the
+ * confirmed objects seen in it to objects (at most cap) and returns how
+ * many. Nothing (and everything starts over) when out carries no measured
+ * motion. Reads scan and out only. */
 uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t time_us,
                         const ego_output_t *out, ego_moving_object_t *objects, uint8_t cap);
 
