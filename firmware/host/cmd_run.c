@@ -3,7 +3,7 @@
  *
  *   lmsego run --port DEV [--baud B] [--variant DEG,RES] [--units cm|mm]
  *              [--mode HEX] [--partial] [--address A] [--power-wait S]
- *              [--mount X,Y,DEG] [--scans N] [--record FILE]
+ *              [--mount X,Y,DEG] [--scans N] [--record FILE] [--moving]
  *   lmsego record --port DEV [same bring-up options] -o FILE [--scans N]
  *
  * Both open the port (driver/posix/lms_serial), run the session
@@ -17,7 +17,8 @@
  *   is the mirror's; latency_ms is the clock when the line is written less
  *   time_s. --record FILE also writes the recording (as record does), and
  *   `lmsego replay FILE` prints the same CSV without latency_ms, byte for
- *   byte, when the run had no restart;
+ *   byte, when the run had no restart; --moving adds each scan's moving
+ *   objects after its line ("o," lines, as `replay --moving`; ego_loop.h);
  * - record: writes every byte read while streaming, with its arrival time,
  *   to a recording (firmware/host/recording.h) that stats, scans and
  *   replay read.
@@ -130,7 +131,10 @@ static int parse_variant(const char *text, uint16_t *angle, uint16_t *res)
 static const char help_run[] =
     HELP_BRING_UP
     "  --mount X,Y,DEG  the scanner's pose on the vehicle: m, m, deg (default 0,0,0)\n"
-    "  --record FILE also writes the recording, as record does\n";
+    "  --record FILE also writes the recording, as record does\n"
+    "  --moving      each line is followed by its scan's moving objects, one line each:\n"
+    "                'o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points' (m, m/s,\n"
+    "                the scan's vehicle frame; nan until known; as replay --moving)\n";
 
 static const char tail_run[] =
     "\nstderr: the link's events (streaming, link lost), then one line of counters\n"
@@ -205,6 +209,14 @@ int live_parse_options(const cli_command_t *self, int argc, char **argv, bool re
         } else if (strcmp(arg, "--partial") == 0) {
             o->session.partial = true;
             continue;
+        } else if (!record && strcmp(arg, "--moving") == 0) {
+#if EGO_LOOP_OBJECTS
+            o->loop.objects = true;
+            continue;
+#else
+            return cli_usage_error(self, "this lmsego was built without", arg,
+                                   "LMSEGO_LOOP_OBJECTS=ON");
+#endif
         } else if (strcmp(arg, "--address") == 0) {
             unsigned long a = 0u;
             if (cli_parse_whole(value, 0u, 127u, &a) != 0) {
