@@ -69,6 +69,16 @@ else()
     set(LMSEGO_PC_LIBDIR "\${prefix}/${CMAKE_INSTALL_LIBDIR}")
     set(LMSEGO_PC_INCLUDEDIR "\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}")
 endif()
+# The definitions that size the public structs, as the libraries were
+# built (the CMake package carries them on its targets).
+if(LMSEGO_LOOP_OBJECTS)
+    set(LMSEGO_PC_DEFINES "-DEGO_LOOP_OBJECTS=1")
+else()
+    set(LMSEGO_PC_DEFINES "-DEGO_LOOP_OBJECTS=0")
+endif()
+if(LMSEGO_MAX_BEAMS)
+    string(APPEND LMSEGO_PC_DEFINES " -DEGO_MAX_BEAMS=${LMSEGO_MAX_BEAMS}u")
+endif()
 configure_file(${PROJECT_SOURCE_DIR}/cmake/lmsego.pc.in ${PROJECT_BINARY_DIR}/lmsego.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/lmsego.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 

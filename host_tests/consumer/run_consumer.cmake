@@ -120,7 +120,10 @@ if(PKG_CONFIG)
     endif()
     run(${PKG_CONFIG} --cflags --libs lmsego)
     string(STRIP "${run_out}" pc_flags)
-    if(NOT pc_flags MATCHES "^-I[^ ]*/include/lmsego +-L[^ ]*/lib +-lego_firmware -llms_estimator -llms_driver$")
+    # The include directory, the definitions that size the public structs
+    # as the libraries were built (EGO_LOOP_OBJECTS, EGO_MAX_BEAMS when
+    # set), the libraries.
+    if(NOT pc_flags MATCHES "^-I[^ ]*/include/lmsego +-DEGO_LOOP_OBJECTS=[01]( +-DEGO_MAX_BEAMS=[0-9]+u)? +-L[^ ]*/lib +-lego_firmware -llms_estimator -llms_driver$")
         message(FATAL_ERROR "pkg-config --cflags --libs lmsego: '${pc_flags}'")
     endif()
     separate_arguments(pc_args UNIX_COMMAND "${pc_flags}")
@@ -131,7 +134,7 @@ if(PKG_CONFIG)
 else()
     file(READ ${pc_file} pc)
     foreach(re "\nVersion: ${version_re}\n" "\nLibs: -L\\\${libdir} -lego_firmware -llms_estimator -llms_driver\n"
-            "\nCflags: -I\\\${includedir}/lmsego\n")
+            "\nCflags: -I\\\${includedir}/lmsego -DEGO_LOOP_OBJECTS=[01]( -DEGO_MAX_BEAMS=[0-9]+u)?\n")
         if(NOT pc MATCHES "${re}")
             message(FATAL_ERROR "${pc_file} does not match /${re}/:\n${pc}")
         endif()
