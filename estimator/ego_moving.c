@@ -73,15 +73,26 @@ static void polar_of(fx_q16_16_t dx, fx_q16_16_t dy, fx_q16_16_t *r, fx_bam32_t 
     *b = fx_atan2_quick(dy, dx);
 }
 
-/* max(EGO_MOVING_NEAR, r * step): neighbouring beams' points lie that
- * far apart at range r. step in 2^-16 turn. */
-static uint64_t near_sq(fx_q16_16_t r, uint32_t step, fx_q16_16_t extra)
+/* The near test's reach: max(EGO_MOVING_NEAR, r * step) + extra (at
+ * range r neighbouring beams step apart, in 2^-16 turn, land r * step
+ * apart), squared, and the beams on either side it spans (at most
+ * EGO_MOVING_NEAR_BEAMS). */
+typedef struct {
+    uint64_t sq;   /* Q32.32 */
+    int32_t beams;
+} near_t;
+
+static near_t near_of(fx_q16_16_t r, uint32_t step, fx_q16_16_t extra)
 {
     /* step < 2^16 and r < 2^31: the angle (Q16.16 rad, < 2^19) first. */
     const int64_t angle = ((int64_t)step * TWO_PI_Q16) >> 16;
     const int64_t gap = ((int64_t)r * angle) >> 16;
     const int64_t thr = ((gap > EGO_MOVING_NEAR) ? gap : EGO_MOVING_NEAR) + extra;
-    return (thr >= INT32_MAX) ? UINT64_MAX : (uint64_t)(thr * thr);
+    const int64_t beams = (gap > 0) ? thr / gap + 1 : (int64_t)EGO_MOVING_NEAR_BEAMS;
+    near_t n;
+    n.sq = (thr >= INT32_MAX) ? UINT64_MAX : (uint64_t)(thr * thr);
+    n.beams = (beams < (int64_t)EGO_MOVING_NEAR_BEAMS) ? (int32_t)beams : (int32_t)EGO_MOVING_NEAR_BEAMS;
+    return n;
 }
 
 /* --- the reference ------------------------------------------------------ */
@@ -123,20 +134,23 @@ static bool ref_bracket(const ego_moving_ref_t *ref, fx_bam32_t b, uint16_t *j)
     return true;
 }
 
-/* Is a reference point of beams j - 1 .. j + 2 within near of (x, y)? */
+/* Is a reference point within near of (x, y), on the beams near.beams
+ * around j and j + 1? Each point looked at is a unit of work. */
 static bool ref_near(const ego_moving_ref_t *ref, uint16_t j, fx_q16_16_t x, fx_q16_16_t y,
-                     uint64_t near)
+                     near_t near, uint32_t *units)
 {
-    const uint16_t from = (j > 0u) ? (uint16_t)(j - 1u) : 0u;
-    const uint16_t to = (j + 3u < ref->count) ? (uint16_t)(j + 3u) : ref->count;
-    for (uint16_t i = from; i < to; i++) {
+    const int32_t from = ((int32_t)j > near.beams) ? (int32_t)j - near.beams : 0;
+    const int32_t last = (int32_t)j + 1 + near.beams;
+    const int32_t to = (last < (int32_t)ref->count) ? last + 1 : (int32_t)ref->count;
+    for (int32_t i = from; i < to; i++) {
+        *units += 1u;
         if (ref->range_cm[i] == 0u) {
             continue;
         }
         fx_q16_16_t rx;
         fx_q16_16_t ry;
-        ref_point(ref, i, &rx, &ry);
-        if (dist_sq(fx_sub_q16(rx, x), fx_sub_q16(ry, y)) < near) {
+        ref_point(ref, (uint16_t)i, &rx, &ry);
+        if (dist_sq(fx_sub_q16(rx, x), fx_sub_q16(ry, y)) < near.sq) {
             return true;
         }
     }
@@ -176,13 +190,14 @@ static void scan_point(const ego_range_scan_t *scan, uint16_t k, fx_q16_16_t *x,
 }
 
 /* Is a valid current point of beams [from, to) within limit (squared,
- * Q32.32) of (x, y)? */
+ * Q32.32) of (x, y)? Each beam looked at is a unit of work. */
 static bool scan_near(const ego_range_scan_t *scan, int32_t from, int32_t to, fx_q16_16_t x,
-                      fx_q16_16_t y, uint64_t limit)
+                      fx_q16_16_t y, uint64_t limit, uint32_t *units)
 {
     from = (from > 0) ? from : 0;
     to = (to < (int32_t)scan->count) ? to : (int32_t)scan->count;
     for (int32_t k = from; k < to; k++) {
+        *units += 1u;
         if (scan->range[k] == 0u) {
             continue;
         }
@@ -204,8 +219,9 @@ static bool scan_near(const ego_range_scan_t *scan, int32_t from, int32_t to, fx
  * it is evidence for (a walker stepping aside reveals the wall behind,
  * which is no body receding). */
 static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y, fx_q16_16_t px,
-                     fx_q16_16_t py, fx_q16_16_t extra)
+                     fx_q16_16_t py, fx_q16_16_t extra, uint32_t *units)
 {
+    *units += 1u;
     fx_q16_16_t r;
     fx_bam32_t b;
     polar_of(fx_sub_q16(x, scan->origin_x), fx_sub_q16(y, scan->origin_y), &r, &b);
@@ -219,12 +235,13 @@ static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y,
         }
     }
     const uint32_t step = (ego_range_bearing(scan, (uint16_t)(c + 1u)) - ego_range_bearing(scan, c)) >> 16;
-    if (scan_near(scan, (int32_t)c - 1, (int32_t)c + 3, x, y, near_sq(r, step, extra))) {
+    const near_t near = near_of(r, step, extra);
+    if (scan_near(scan, (int32_t)c - near.beams, (int32_t)c + 2 + near.beams, x, y, near.sq, units)) {
         return false;
     }
     const uint64_t half = dist_sq(fx_sub_q16(px, x), fx_sub_q16(py, y)) / 4u;
     return !scan_near(scan, (int32_t)c - (int32_t)EGO_MOVING_REVEAL_BEAMS,
-                      (int32_t)c + 2 + (int32_t)EGO_MOVING_REVEAL_BEAMS, x, y, half);
+                      (int32_t)c + 2 + (int32_t)EGO_MOVING_REVEAL_BEAMS, x, y, half, units);
 }
 
 static fx_q16_16_t range_of(fx_q16_16_t dx, fx_q16_16_t dy)
@@ -268,7 +285,7 @@ static bool maybe_evidence(const ego_moving_ref_t *ref, uint16_t j, uint64_t d2)
 /* Is the current point (px, py) evidence of motion (ego_moving.h)? */
 static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
 {
-    *v->units += EGO_MOVING_UNITS_POINT;
+    *v->units += 1u;
     const ego_moving_ref_t *ref = v->ref;
     fx_q16_16_t qx;
     fx_q16_16_t qy;
@@ -284,7 +301,8 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
     }
     const fx_q16_16_t r = range_of(ox, oy);
     /* The chained motion's uncertainty at this range (2 sigma: the root
-     * sum of the lines' variances since the reference). */    const int64_t slack = 2 * ((int64_t)ref->slack_xy + (((int64_t)r * ref->slack_theta) >> 16));
+     * sum of the lines' variances since the reference). */
+    const int64_t slack = 2 * ((int64_t)ref->slack_xy + (((int64_t)r * ref->slack_theta) >> 16));
     const fx_q16_16_t extra = (slack < EGO_MOVING_MAX_SLACK) ? (fx_q16_16_t)slack : EGO_MOVING_MAX_SLACK;
     /* The ranges alone first: most points are neither (cheap). */
     bool entered = true;
@@ -299,9 +317,8 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
     if (!entered && !receding) {
         return false;
     }
-    const uint64_t near = near_sq(r, (uint32_t)ref->offset[j + 1u] - ref->offset[j], extra);
-    *v->units += EGO_MOVING_UNITS_NEAR;
-    if (ref_near(ref, j, qx, qy, near)) {
+    const near_t near = near_of(r, (uint32_t)ref->offset[j + 1u] - ref->offset[j], extra);
+    if (ref_near(ref, j, qx, qy, near, v->units)) {
         return false;
     }
     if (entered) {
@@ -321,8 +338,7 @@ static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
         const fx_q16_16_t dy = fx_sub_q16(sy, ref->pose.y);
         const fx_q16_16_t cx = fx_add_q16(fx_mul_q16_q30(dx, v->ref_cos), fx_mul_q16_q30(dy, v->ref_sin));
         const fx_q16_16_t cy = fx_sub_q16(fx_mul_q16_q30(dy, v->ref_cos), fx_mul_q16_q30(dx, v->ref_sin));
-        *v->units += EGO_MOVING_UNITS_VANISHED;
-        if (vanished(v->scan, cx, cy, px, py, extra)) {
+        if (vanished(v->scan, cx, cy, px, py, extra, v->units)) {
             return true;
         }
     }
@@ -716,7 +732,7 @@ static uint8_t free_slot(const ego_moving_t *m)
         if (!tr->used) {
             return t;
         }
-        if (!tr->seen && tr->misses > most) {
+        if (!tr->seen && (pick == EGO_MOVING_TRACKS || tr->misses > most)) {
             most = tr->misses;
             pick = t;
         }

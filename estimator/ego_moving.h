@@ -37,7 +37,9 @@
  * EGO_MOVING_MAX_EXTENT (16 m) apart (walls are longer) is a candidate;
  * its points are evidence of motion when no reference point lies within
  * EGO_MOVING_NEAR (0.2 m, or the reference's beam spacing at the point's
- * range if more) and either
+ * range if more, widened by the slack below; looked for over the beams
+ * that reach spans, at most EGO_MOVING_NEAR_BEAMS on either side) and
+ * either
  *   - entered: the reference beams on both sides of the point's bearing
  *     reached EGO_MOVING_FREE_MARGIN (0.3 m) beyond it, or had no return
  *     (it stands where the sensor saw free space: a static surface newly
@@ -151,18 +153,22 @@
 /* The most the chained motion's uncertainty widens the margins, Q16.16 m. */
 #define EGO_MOVING_MAX_SLACK FX_Q16_16_C(2.0)
 
-/* Work units: a point tested for evidence, its test against the
- * reference's neighbours (an upper bound: four points), a vanished
- * point's tests (its bracket and up to 22 current points), a point of a
- * box. A scan stops testing for evidence at EGO_MOVING_UNITS_PER_BEAM
+/* Work units: a point tested for evidence, each point a near test or a
+ * vanished point's tests look at (the near tests span the beams the
+ * margin reaches, at most EGO_MOVING_NEAR_BEAMS on either side), a point
+ * of a box. A scan stops testing for evidence at EGO_MOVING_UNITS_PER_BEAM
  * units per beam of the scan (its remaining segments are not moving
  * clusters; the tracks and the hold go on), so its work is bounded on any
  * input (docs/firmware.md measures the instructions a unit costs). The
  * busy streets took at most 5.4 a beam (pedestrians at 361 values), most
  * scans 2 to 3. */
-#define EGO_MOVING_UNITS_POINT 1u
-#define EGO_MOVING_UNITS_NEAR 4u
-#define EGO_MOVING_UNITS_VANISHED 24u
+#define EGO_MOVING_NEAR_BEAMS 16u
+/* The most one point's test costs: itself, a near test over the
+ * reference, and two vanished points' tests (each: itself, a near test
+ * over the scan, the reveal window). 141. */
+#define EGO_MOVING_UNITS_TEST_MAX                                               \
+    (1u + (2u * EGO_MOVING_NEAR_BEAMS + 2u) +                                   \
+     2u * (1u + (2u * EGO_MOVING_NEAR_BEAMS + 2u) + (2u * EGO_MOVING_REVEAL_BEAMS + 2u)))
 #define EGO_MOVING_UNITS_PER_BEAM 6u
 
 /* A velocity not known yet (the track is younger than
@@ -227,8 +233,8 @@ typedef struct {
     uint32_t time_us;      /* of the last scan */
     uint32_t units;        /* public: the last scan's work: its evidence tests stop
                               at EGO_MOVING_UNITS_PER_BEAM units a beam (the last
-                              one may cross it by up to 53), plus a unit per
-                              point of each box */
+                              one may cross it by up to EGO_MOVING_UNITS_TEST_MAX),
+                              plus a unit per point of each box */
     uint16_t next_id;
     uint8_t refs;          /* references held */
     uint8_t newest;        /* the slot of the newest */

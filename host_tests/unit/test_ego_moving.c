@@ -11,11 +11,7 @@
  * velocities against the truth; no object in a static world; the reveal
  * rule; every restart rule; misses, slots and the hold; the slack from the
  * covariance and its cap; capacity and bounds; ids; random input (bounds,
- * the work meter, determinism, reset).
- *
- * Four tests assert documented behaviour the module does not have yet
- * (known_bug below): they are ignored with the reason unless
- * EGO_MOVING_KNOWN_BUGS is set. */
+ * the work meter, determinism, reset). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,18 +29,6 @@ void setUp(void)
 
 void tearDown(void)
 {
-}
-
-/* A test of documented behaviour that estimator/ego_moving.c does not
- * have (reported with the test): ignored, with the reason, unless
- * EGO_MOVING_KNOWN_BUGS is set in the environment, so the suite stays
- * green for everyone until the module (or its header) is fixed; then the
- * call goes. */
-static void known_bug(const char *why)
-{
-    if (getenv("EGO_MOVING_KNOWN_BUGS") == NULL) {
-        TEST_IGNORE_MESSAGE(why);
-    }
 }
 
 /* --- the simulated world -------------------------------------------------- */
@@ -914,8 +898,8 @@ static uint8_t restart_line(restart_scene_t *r, line_kind_t kind, uint16_t flags
 }
 
 /* Everything starts over (ego_moving.h): a line without a measured motion
- * (first, predicted, recovering, recovered), a saturated variance, an
- * interval of 0 or over EGO_MOVING_MAX_DT_US. Nothing on that line nor
+ * (first, predicted, recovering, recovered), an interval of 0 or over
+ * EGO_MOVING_MAX_DT_US. Nothing on that line nor
  * within QUIET_US after it (no track survives to be held); then the car
  * and W2 come back on fresh tracks whose ids start from 1 again. */
 static void assert_everything_starts_over(line_kind_t kind, uint16_t flags, const char *what)
@@ -955,16 +939,6 @@ static void test_ego_moving_bad_interval_starts_everything_over(void)
     assert_everything_starts_over(LINE_DT_LONG, 0u, "interval over the maximum");
 }
 
-static void test_ego_moving_saturated_variance_starts_everything_over(void)
-{
-    known_bug("ego_moving.c restarts only the references on a saturated variance (held "
-              "tracks are reported on that line, ids go on); the header lists it with the "
-              "lines that start everything over");
-    assert_everything_starts_over(LINE_COV_XX, 0u, "cov.xx saturated");
-    assert_everything_starts_over(LINE_COV_YY, 0u, "cov.yy saturated");
-    assert_everything_starts_over(LINE_COV_TT, 0u, "cov.tt saturated");
-}
-
 /* An interval of exactly EGO_MOVING_MAX_DT_US is no restart: the tracks
  * were predicted over it and the car and W2 are reported on that very
  * line under their old ids. */
@@ -980,17 +954,17 @@ static void test_ego_moving_longest_interval_keeps_tracks(void)
     TEST_ASSERT_EQUAL_UINT(r.w2_id, w2->id);
 }
 
-/* A line whose motion has no covariance to trust (suspect, on objects)
- * starts the references over; the tracks go on. W2 (a walker: never
+/* A line whose motion has no covariance to trust (suspect, on objects, a
+ * saturated variance) starts the references over; the tracks go on. W2 (a walker: never
  * held) is not reported within QUIET_US, loses its track (missed more
  * than EGO_MOVING_MAX_MISSES lines) and comes back under a new id, after
  * the ones already given (ids were not restarted). The car is a vehicle
  * whose velocity came from its ends: the hold keeps it on its own
  * segment, under its id, on every line. */
-static void assert_references_start_over(uint16_t flags, const char *what)
+static void assert_references_start_over(line_kind_t kind, uint16_t flags, const char *what)
 {
     restart_scene_t r;
-    restart_line(&r, LINE_FLAGS, flags);
+    restart_line(&r, kind, flags);
     const uint32_t t0 = g_sim.time_us;
     const ego_moving_object_t *car = object_on(&g_sim, &g_world, r.car);
     TEST_ASSERT_NOT_NULL_MESSAGE(car, what);
@@ -1016,8 +990,15 @@ static void assert_references_start_over(uint16_t flags, const char *what)
 
 static void test_ego_moving_untrusted_motion_restarts_references_only(void)
 {
-    assert_references_start_over(EGO_FLAG_SUSPECT, "suspect");
-    assert_references_start_over(EGO_FLAG_ON_OBJECTS, "on objects");
+    assert_references_start_over(LINE_FLAGS, EGO_FLAG_SUSPECT, "suspect");
+    assert_references_start_over(LINE_FLAGS, EGO_FLAG_ON_OBJECTS, "on objects");
+}
+
+static void test_ego_moving_saturated_variance_restarts_references_only(void)
+{
+    assert_references_start_over(LINE_COV_XX, 0u, "cov.xx saturated");
+    assert_references_start_over(LINE_COV_YY, 0u, "cov.yy saturated");
+    assert_references_start_over(LINE_COV_TT, 0u, "cov.tt saturated");
 }
 
 /* --- tracks: misses, slots, the hold ----------------------------------------- */
@@ -1087,9 +1068,6 @@ static void test_ego_moving_track_survives_short_gaps_only(void)
  * takes a slot on its first line and is confirmed on its third (line 47). */
 static void test_ego_moving_new_body_takes_a_missed_slot(void)
 {
-    known_bug("free_slot takes only a track with misses > 0: a track missed for the "
-              "first time on this line is not free, the new cluster is dropped (confirmed "
-              "one line late)");
     world_clear(&g_world);
     const double t_swap = 45.0 * DT_S - DT_S / 2.0;
     for (unsigned i = 0u; i < EGO_MOVING_TRACKS; i++) {
@@ -1186,9 +1164,6 @@ static void slack_run(ego_cov_t cov, uint16_t flags, unsigned *walker_reports,
  *    found), 1.2-1.5 m at the car's 12 m (which moved farther: found). */
 static void test_ego_moving_slack_hides_slow_bodies_only(void)
 {
-    known_bug("ref_near looks at reference beams j-1..j+2 only: a reference point within "
-              "the widened near margin but more than two beams aside is not seen (walker "
-              "found under a 0.57 m slack)");
     unsigned walker = 0u;
     unsigned car = 0u;
     slack_run(trusted(), 0u, &walker, &car);
@@ -1273,8 +1248,6 @@ static void test_ego_moving_slack_is_capped(void)
  * evidence: nothing is reported. */
 static void test_ego_moving_motion_error_within_slack_reports_nothing(void)
 {
-    known_bug("ref_near looks at reference beams j-1..j+2 only: static posts moved 0.5 m "
-              "aside by a motion error within the slack are evidence (false objects)");
     world_clear(&g_world);
     world_wall(&g_world, 12.0, -30.0, 12.0, 30.0);
     for (int i = -3; i <= 3; i++) {
@@ -1712,7 +1685,7 @@ int main(void)
     RUN_TEST(test_ego_moving_walker_before_wall_reveals_no_body);
     RUN_TEST(test_ego_moving_unmeasured_line_starts_everything_over);
     RUN_TEST(test_ego_moving_bad_interval_starts_everything_over);
-    RUN_TEST(test_ego_moving_saturated_variance_starts_everything_over);
+    RUN_TEST(test_ego_moving_saturated_variance_restarts_references_only);
     RUN_TEST(test_ego_moving_longest_interval_keeps_tracks);
     RUN_TEST(test_ego_moving_untrusted_motion_restarts_references_only);
     RUN_TEST(test_ego_moving_track_survives_short_gaps_only);
