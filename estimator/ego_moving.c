@@ -285,7 +285,7 @@ static bool maybe_evidence(const ego_moving_ref_t *ref, uint16_t j, uint64_t d2)
 /* Is the current point (px, py) evidence of motion (ego_moving.h)? */
 static bool evidence(const view_t *v, fx_q16_16_t px, fx_q16_16_t py)
 {
-    *v->units += 1u;
+    *v->units += EGO_MOVING_UNITS_POINT;
     const ego_moving_ref_t *ref = v->ref;
     fx_q16_16_t qx;
     fx_q16_16_t qy;

@@ -153,23 +153,26 @@
 /* The most the chained motion's uncertainty widens the margins, Q16.16 m. */
 #define EGO_MOVING_MAX_SLACK FX_Q16_16_C(2.0)
 
-/* Work units: a point tested for evidence, each point a near test or a
- * vanished point's tests look at (the near tests span the beams the
- * margin reaches, at most EGO_MOVING_NEAR_BEAMS on either side), a point
- * of a box. A scan stops testing for evidence at EGO_MOVING_UNITS_PER_BEAM
+/* Work units, each about a sine and a few products (150 instructions on
+ * a Cortex-M3): a point tested for evidence, EGO_MOVING_UNITS_POINT (its
+ * transform, bearing and lookup); each point a near test or a vanished
+ * point's tests look at, one (the near tests span the beams the margin
+ * reaches, at most EGO_MOVING_NEAR_BEAMS on either side); a point of a
+ * box, one. A scan stops testing for evidence at EGO_MOVING_UNITS_PER_BEAM
  * units per beam of the scan (its remaining segments are not moving
  * clusters; the tracks and the hold go on), so its work is bounded on any
  * input (docs/firmware.md measures the instructions a unit costs). The
- * busy streets took at most 5.4 a beam (pedestrians at 361 values), most
- * scans 2 to 3. */
+ * busy streets took at most 6.2 a beam (the platoon at 361 values), most
+ * scans 1.5 to 4. */
 #define EGO_MOVING_NEAR_BEAMS 16u
+#define EGO_MOVING_UNITS_POINT 4u
 /* The most one point's test costs: itself, a near test over the
  * reference, and two vanished points' tests (each: itself, a near test
- * over the scan, the reveal window). 141. */
+ * over the scan, the reveal window). 144. */
 #define EGO_MOVING_UNITS_TEST_MAX                                               \
-    (1u + (2u * EGO_MOVING_NEAR_BEAMS + 2u) +                                   \
+    (EGO_MOVING_UNITS_POINT + (2u * EGO_MOVING_NEAR_BEAMS + 2u) +               \
      2u * (1u + (2u * EGO_MOVING_NEAR_BEAMS + 2u) + (2u * EGO_MOVING_REVEAL_BEAMS + 2u)))
-#define EGO_MOVING_UNITS_PER_BEAM 6u
+#define EGO_MOVING_UNITS_PER_BEAM 8u
 
 /* A velocity not known yet (the track is younger than
  * EGO_MOVING_VEL_MIN_US). */

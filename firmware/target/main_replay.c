@@ -40,10 +40,10 @@ extern const uint32_t lmsego_stream_size;
 /* The moving objects' work per scan beside their counted units (the
  * segments, the references, the tracks: measured 20 k on the platoon,
  * whose references keep starting over), and the instructions a unit
- * costs at most (measured about 470 on the busy streets, Cortex-M3 -Os;
+ * costs at most (measured about 340 on the busy streets, Cortex-M3 -Os;
  * docs/firmware.md). */
 #define OBJECTS_ALLOWANCE 40000u
-#define OBJECTS_INSNS_PER_UNIT 600u
+#define OBJECTS_INSNS_PER_UNIT 400u
 
 static ego_loop_config_t config;
 static ego_loop_t loop;
