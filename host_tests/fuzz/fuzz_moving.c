@@ -54,11 +54,13 @@
  *    origin); the box centre within 35 sqrt(2) m of the origin (when the
  *    origin is within 250 m, so that centimetres do not saturate);
  *  - the work (units, public): at most EGO_MOVING_UNITS_PER_BEAM a beam
- *    for the evidence tests, plus the last test's (1 + 4 + 2 * 24 = 53),
+ *    for the evidence tests, plus the last test's (at most
+ *    EGO_MOVING_UNITS_TEST_MAX),
  *    plus a unit per point of each box: the moving clusters' (disjoint
  *    segments: at most the count) and the hold's (at most two segments
  *    for each of EGO_MOVING_TRACKS tracks); so at most
- *    (EGO_MOVING_UNITS_PER_BEAM + 1 + 2 EGO_MOVING_TRACKS) count + 53;
+ *    (EGO_MOVING_UNITS_PER_BEAM + 1 + 2 EGO_MOVING_TRACKS) count +
+ *    EGO_MOVING_UNITS_TEST_MAX;
  *  - the scan's arrays and the line are not written (const);
  *  - determinism and cap: a second state fed the same scans with cap
  *    EGO_MOVING_MAX_OBJECTS returns n2 objects; the first returns
@@ -86,10 +88,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 #define POSE_LIMIT (4 * 65536)
 /* ego_moving.h: the lines that start everything over. */
 #define UNMEASURED (EGO_FLAG_FIRST | EGO_FLAG_PREDICTED | EGO_FLAG_RECOVERING | EGO_FLAG_RECOVERED)
-/* ego_moving.h: the most one evidence test costs, a point's, its
- * neighbours' and two vanished tests (the last test of a scan may cross
- * the scan's limit by this). */
-#define LAST_TEST_UNITS (EGO_MOVING_UNITS_POINT + EGO_MOVING_UNITS_NEAR + 2u * EGO_MOVING_UNITS_VANISHED)
+/* ego_moving.h: the most one evidence test costs (the last test of a
+ * scan may cross the scan's limit by this). */
+#define LAST_TEST_UNITS EGO_MOVING_UNITS_TEST_MAX
 /* Points within EGO_MOVING_MAX_RANGE (35 m) of the origin: lengths at
  * most 70 m, a box centre within 35 sqrt(2) = 49.50 m of it; a few cm to
  * spare for the sines' and the roundings' last places. */
