@@ -70,26 +70,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 /* ego.c: the last motion scaled to an interval at most this many times. */
 #define HORIZON 16
 
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-    size_t pos;
-} input_t;
-
-static uint32_t take(input_t *in, unsigned bytes)
+static uint64_t take64(fuzz_input_t *in)
 {
-    uint32_t v = 0u;
-    for (unsigned k = 0u; k < bytes; k++) {
-        const uint32_t b = (in->pos < in->size) ? in->data[in->pos++] : 0u;
-        v |= b << (8u * k);
-    }
-    return v;
-}
-
-static uint64_t take64(input_t *in)
-{
-    const uint64_t lo = take(in, 4u);
-    return lo | ((uint64_t)take(in, 4u) << 32);
+    const uint64_t lo = fuzz_take(in, 4u);
+    return lo | ((uint64_t)fuzz_take(in, 4u) << 32);
 }
 
 static int64_t abs64(int64_t v)
@@ -167,7 +151,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 1u) {
         return 0;
     }
-    input_t in = {data, size, 1u};
+    fuzz_input_t in = {data, size, 1u};
     const uint8_t setup = data[0];
     const bool budget = (setup & 1u) != 0u;
     const bool with_prior = (setup & 2u) != 0u;
@@ -186,21 +170,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
      * whatever ran before it. */
     memset(&state, 0, sizeof state);
     ego_reset(&state);
-    uint32_t unit_um = (unit_pick < 3u) ? units[unit_pick] : 1u + take(&in, 4u) % 500000u;
+    uint32_t unit_um = (unit_pick < 3u) ? units[unit_pick] : 1u + fuzz_take(&in, 4u) % 500000u;
     fx_q16_16_t ox = 0;
     fx_q16_16_t oy = 0;
     if (with_origin) {
-        ox = (fx_q16_16_t)((int32_t)take(&in, 2u) - 32768) * 8; /* +-4 m */
-        oy = (fx_q16_16_t)((int32_t)take(&in, 2u) - 32768) * 8;
+        ox = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 8; /* +-4 m */
+        oy = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 8;
     }
     uint32_t time_us = 0u;
     int64_t far_um = 0; /* the farthest reading from the vehicle's origin */
     for (unsigned s = 0u; s < MAX_SCANS && in.pos < in.size; s++) {
-        const uint8_t c = (uint8_t)take(&in, 1u);
-        const uint8_t options = (uint8_t)take(&in, 1u);
-        const uint32_t step = take(&in, 4u);
+        const uint8_t c = (uint8_t)fuzz_take(&in, 1u);
+        const uint8_t options = (uint8_t)fuzz_take(&in, 1u);
+        const uint32_t step = fuzz_take(&in, 4u);
         time_us += step;
-        const uint32_t first = take(&in, 4u);
+        const uint32_t first = fuzz_take(&in, 4u);
         uint16_t count = (uint16_t)(1u + c % MAX_GIVEN);
         uint16_t given = count;
         if (c == 255u) {
@@ -218,7 +202,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FUZZ_CHECK(range != NULL && table != NULL);
         uint16_t largest = 0u;
         for (uint16_t k = 0u; k < given; k++) {
-            range[k] = (uint16_t)take(&in, 2u);
+            range[k] = (uint16_t)fuzz_take(&in, 2u);
             largest = (range[k] > largest) ? range[k] : largest;
         }
         for (uint16_t k = given; k < count; k++) {
@@ -244,21 +228,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         ego_pose_t prior = {0u, 0, 0};
         if (with_prior) {
-            prior.theta = take(&in, 4u);
-            prior.x = (fx_q16_16_t)((int32_t)take(&in, 4u) % PRIOR_LIMIT);
-            prior.y = (fx_q16_16_t)((int32_t)take(&in, 4u) % PRIOR_LIMIT);
+            prior.theta = fuzz_take(&in, 4u);
+            prior.x = (fx_q16_16_t)((int32_t)fuzz_take(&in, 4u) % PRIOR_LIMIT);
+            prior.y = (fx_q16_16_t)((int32_t)fuzz_take(&in, 4u) % PRIOR_LIMIT);
         }
         if (with_timing) {
-            scan.passes = (uint8_t)take(&in, 1u);
-            scan.pass_us = take(&in, 2u);
-            scan.beam_ns = take(&in, 2u) * 16u;
+            scan.passes = (uint8_t)fuzz_take(&in, 1u);
+            scan.pass_us = fuzz_take(&in, 2u);
+            scan.beam_ns = fuzz_take(&in, 2u) * 16u;
         }
         if (raw) {
-            scan.count = (uint16_t)take(&in, 2u);
+            scan.count = (uint16_t)fuzz_take(&in, 2u);
             if (scan.count > count) {
                 scan.count = count; /* the arrays hold count */
             }
-            scan.range_unit_um = take(&in, 4u);
+            scan.range_unit_um = fuzz_take(&in, 4u);
             scan.first_bearing = take64(&in);
             scan.bearing_step = take64(&in);
             scan.bearing = NULL;

@@ -98,22 +98,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 #define MAX_CENTRE_CM 4955
 #define CENTRE_ORIGIN_LIMIT (250 * 65536)
 
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-    size_t pos;
-} input_t;
-
-static uint32_t take(input_t *in, unsigned bytes)
-{
-    uint32_t v = 0u;
-    for (unsigned k = 0u; k < bytes; k++) {
-        const uint32_t b = (in->pos < in->size) ? in->data[in->pos++] : 0u;
-        v |= b << (8u * k);
-    }
-    return v;
-}
-
 static int64_t abs64(int64_t v)
 {
     return (v < 0) ? -v : v;
@@ -167,7 +151,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 1u) {
         return 0;
     }
-    input_t in = {data, size, 1u};
+    fuzz_input_t in = {data, size, 1u};
     const uint8_t setup = data[0];
     const bool with_table = (setup & 1u) != 0u;
     const unsigned origin_pick = (setup >> 1) & 3u;
@@ -180,16 +164,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     ego_moving_reset(&state);
     ego_moving_reset(&twin);
     memset(given_ranges, 0, sizeof given_ranges);
-    const uint32_t unit_um = (unit_pick < 3u) ? units[unit_pick] : 1u + take(&in, 4u) % 500000u;
+    const uint32_t unit_um = (unit_pick < 3u) ? units[unit_pick] : 1u + fuzz_take(&in, 4u) % 500000u;
     fx_q16_16_t ox = 0;
     fx_q16_16_t oy = 0;
     if (origin_pick == 1u || origin_pick == 2u) {
         const int32_t scale = (origin_pick == 1u) ? 8 : 256; /* +-4 m, +-128 m */
-        ox = (fx_q16_16_t)(((int32_t)take(&in, 2u) - 32768) * scale);
-        oy = (fx_q16_16_t)(((int32_t)take(&in, 2u) - 32768) * scale);
+        ox = (fx_q16_16_t)(((int32_t)fuzz_take(&in, 2u) - 32768) * scale);
+        oy = (fx_q16_16_t)(((int32_t)fuzz_take(&in, 2u) - 32768) * scale);
     } else if (origin_pick == 3u) {
-        ox = (fx_q16_16_t)take(&in, 4u);
-        oy = (fx_q16_16_t)take(&in, 4u);
+        ox = (fx_q16_16_t)fuzz_take(&in, 4u);
+        oy = (fx_q16_16_t)fuzz_take(&in, 4u);
     }
     const bool centre_check = abs64(ox) <= CENTRE_ORIGIN_LIMIT && abs64(oy) <= CENTRE_ORIGIN_LIMIT;
     uint32_t time_us = 0u;
@@ -199,18 +183,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint64_t restart_age_us = 0u; /* time since it (each interval <= 1 s) */
     uint16_t given = 0u;
     for (unsigned s = 0u; s < MAX_SCANS && in.pos < in.size; s++) {
-        const uint8_t c = (uint8_t)take(&in, 1u);
-        const uint8_t options = (uint8_t)take(&in, 1u);
-        const uint8_t cap = (uint8_t)(EGO_MOVING_MAX_OBJECTS - take(&in, 1u) % (EGO_MOVING_MAX_OBJECTS + 1u));
-        const uint8_t sweep_v = (uint8_t)take(&in, 1u);
-        time_us += take(&in, 4u);
-        const uint32_t first = take(&in, 4u);
-        const uint8_t warp = with_table ? (uint8_t)take(&in, 1u) : 0u;
+        const uint8_t c = (uint8_t)fuzz_take(&in, 1u);
+        const uint8_t options = (uint8_t)fuzz_take(&in, 1u);
+        const uint8_t cap = (uint8_t)(EGO_MOVING_MAX_OBJECTS - fuzz_take(&in, 1u) % (EGO_MOVING_MAX_OBJECTS + 1u));
+        const uint8_t sweep_v = (uint8_t)fuzz_take(&in, 1u);
+        time_us += fuzz_take(&in, 4u);
+        const uint32_t first = fuzz_take(&in, 4u);
+        const uint8_t warp = with_table ? (uint8_t)fuzz_take(&in, 1u) : 0u;
         const uint16_t count = beams_of(c);
         const uint16_t want = given_of(count);
         if ((options & 1u) == 0u) {
             for (uint16_t k = 0u; k < want; k++) {
-                given_ranges[k] = (uint16_t)take(&in, 2u);
+                given_ranges[k] = (uint16_t)fuzz_take(&in, 2u);
             }
             given = want;
         } else if (given < want) {
@@ -226,9 +210,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         const unsigned patches = (options >> 1) & 3u;
         for (unsigned p = 0u; p < patches; p++) {
-            const uint32_t at = take(&in, 2u);
-            const uint32_t beams = take(&in, 1u);
-            const uint16_t value = (uint16_t)take(&in, 2u);
+            const uint32_t at = fuzz_take(&in, 2u);
+            const uint32_t beams = fuzz_take(&in, 1u);
+            const uint16_t value = (uint16_t)fuzz_take(&in, 2u);
             for (uint32_t k = 0u; count > 0u && k < beams; k++) {
                 const uint32_t b = (at % count) + k;
                 if (b < count) {
@@ -265,24 +249,24 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
             scan.bearing = table;
         }
-        const uint16_t flags = ((options & 8u) != 0u) ? (uint16_t)take(&in, 2u) : 0u;
+        const uint16_t flags = ((options & 8u) != 0u) ? (uint16_t)fuzz_take(&in, 2u) : 0u;
         ego_output_t out;
         memset(&out, 0, sizeof out);
         out.flags = flags;
-        out.pose.theta = take(&in, 4u);
-        out.pose.x = (fx_q16_16_t)take(&in, 4u);
-        out.pose.y = (fx_q16_16_t)take(&in, 4u);
+        out.pose.theta = fuzz_take(&in, 4u);
+        out.pose.x = (fx_q16_16_t)fuzz_take(&in, 4u);
+        out.pose.y = (fx_q16_16_t)fuzz_take(&in, 4u);
         if (!raw_pose) {
             out.pose.x %= POSE_LIMIT;
             out.pose.y %= POSE_LIMIT;
         }
         if ((options & 16u) != 0u) {
-            out.cov.xx = (fx_q2_30_t)(take(&in, 4u) & 0x7FFFFFFFu);
-            out.cov.xy = (fx_q2_30_t)take(&in, 4u);
-            out.cov.xt = (fx_q2_30_t)take(&in, 4u);
-            out.cov.yy = (fx_q2_30_t)(take(&in, 4u) & 0x7FFFFFFFu);
-            out.cov.yt = (fx_q2_30_t)take(&in, 4u);
-            out.cov.tt = (fx_q2_30_t)(take(&in, 4u) & 0x7FFFFFFFu);
+            out.cov.xx = (fx_q2_30_t)(fuzz_take(&in, 4u) & 0x7FFFFFFFu);
+            out.cov.xy = (fx_q2_30_t)fuzz_take(&in, 4u);
+            out.cov.xt = (fx_q2_30_t)fuzz_take(&in, 4u);
+            out.cov.yy = (fx_q2_30_t)(fuzz_take(&in, 4u) & 0x7FFFFFFFu);
+            out.cov.yt = (fx_q2_30_t)fuzz_take(&in, 4u);
+            out.cov.tt = (fx_q2_30_t)(fuzz_take(&in, 4u) & 0x7FFFFFFFu);
         }
         out.dt_us = time_us - last_fed_us;
         if (!ego_range_check(&scan)) {

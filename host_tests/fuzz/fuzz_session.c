@@ -58,15 +58,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 #define MAX_STEPS 400u
 #define MAX_STEP_US 20000u
 
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-    size_t pos;
-} input_t;
-
-static uint8_t next_byte(input_t *in)
+static uint8_t next_byte(fuzz_input_t *in)
 {
-    return (in->pos < in->size) ? in->data[in->pos++] : 0u;
+    return (uint8_t)fuzz_take(in, 1u);
 }
 
 typedef struct {
@@ -300,7 +294,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 2u) {
         return 0;
     }
-    input_t in = {data, size, 2u};
+    fuzz_input_t in = {data, size, 2u};
     setup(data[0], data[1]);
     while (in.pos < in.size && R.steps < MAX_STEPS) {
         const uint8_t op = next_byte(&in);
