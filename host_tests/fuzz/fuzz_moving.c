@@ -9,7 +9,7 @@
  * bearings), bits 1-2 the sensor's origin (none; +-4 m, +-128 m or any
  * int32, from two values in the input), bits 3-4 the range unit (10000,
  * 1000, 250 um, or 1 + u32 % 500000 from the input), bit 5 the poses'
- * translations any int32 (else cut to +-4 m). Then up to 8 scans, each:
+ * translations any int32 (else cut to +-4 m). Then up to 12 scans, each:
  *   u8   count: 1 + c % 181 beams, or c == 255: EGO_MAX_BEAMS (the
  *        capacity; the ranges given repeat), c == 254: 0 beams
  *   u8   options: bit 0 the ranges given are the last scan's (none read:
@@ -33,7 +33,9 @@
  *        reachable; the estimator gives no negative variance)
  * A missing byte reads as 0. A scan that fails ego_range_check (a step
  * of half a turn or more, more than a turn in all) is skipped; its time
- * step still counts. An input stays under 4 kB.
+ * step still counts. At most 181 values are read a scan, so that an input
+ * stays short (12 scans of a kept scene take about 300 bytes; the runs
+ * cap inputs at 4 kB).
  *
  * Checks (abort on violation), for every scan fed:
  *  - the return is at most cap (and at most EGO_MOVING_MAX_OBJECTS);
@@ -81,7 +83,9 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-#define MAX_SCANS 8u
+/* Enough for a track to be dropped: a restart, a sighting 0.2 s later,
+ * then EGO_MOVING_MAX_MISSES + 1 misses. */
+#define MAX_SCANS 12u
 #define MAX_GIVEN 181u
 #define MAX_PATCHES 3u
 /* Pose translations are cut to +-4 m (Q16.16). */
