@@ -56,10 +56,11 @@ typedef struct {
 #define EGO_LOOP_LINE_MAX 192u
 
 /* The moving objects (ego_moving.h) cost 3.0 KB of RAM in ego_loop_t and
- * 10 KB of flash (Cortex-M3 -Os): a build for a 64 KiB part leaves them out
- * (EGO_LOOP_OBJECTS 0, CMake option LMSEGO_LOOP_OBJECTS; config.objects
- * is not there either). With them and config.objects, after each scan's CSV line (none after the first scan)
- * come its confirmed objects, one line each:
+ * 10 KB of flash (Cortex-M3 -Os): a build for a 64 KiB part leaves them
+ * out (EGO_LOOP_OBJECTS 0, CMake option LMSEGO_LOOP_OBJECTS; the config's
+ * objects fields are not there either). With them and config.objects,
+ * each scan's CSV line (none for the first scan) is followed by its
+ * confirmed objects, one line each:
  *
  *   o,scan,id,cx_m,cy_m,length_m,width_m,vx_mps,vy_mps,points
  *
