@@ -66,10 +66,16 @@ static uint64_t dist_sq(fx_q16_16_t dx, fx_q16_16_t dy)
 }
 
 /* (dx, dy) from an origin as range (Q16.16) and bearing. */
-static void polar_of(fx_q16_16_t dx, fx_q16_16_t dy, fx_q16_16_t *r, fx_bam32_t *b)
+/* The length of (dx, dy), Q16.16, saturated. */
+static fx_q16_16_t range_of(fx_q16_16_t dx, fx_q16_16_t dy)
 {
     const uint32_t root = fx_sqrt_u64(dist_sq(dx, dy));
-    *r = (root > (uint32_t)INT32_MAX) ? INT32_MAX : (fx_q16_16_t)root;
+    return (root > (uint32_t)INT32_MAX) ? INT32_MAX : (fx_q16_16_t)root;
+}
+
+static void polar_of(fx_q16_16_t dx, fx_q16_16_t dy, fx_q16_16_t *r, fx_bam32_t *b)
+{
+    *r = range_of(dx, dy);
     *b = fx_atan2_quick(dy, dx);
 }
 
@@ -242,12 +248,6 @@ static bool vanished(const ego_range_scan_t *scan, fx_q16_16_t x, fx_q16_16_t y,
     const uint64_t half = dist_sq(fx_sub_q16(px, x), fx_sub_q16(py, y)) / 4u;
     return !scan_near(scan, (int32_t)c - (int32_t)EGO_MOVING_REVEAL_BEAMS,
                       (int32_t)c + 2 + (int32_t)EGO_MOVING_REVEAL_BEAMS, x, y, half, units);
-}
-
-static fx_q16_16_t range_of(fx_q16_16_t dx, fx_q16_16_t dy)
-{
-    const uint32_t root = fx_sqrt_u64(dist_sq(dx, dy));
-    return (root > (uint32_t)INT32_MAX) ? INT32_MAX : (fx_q16_16_t)root;
 }
 
 /* (a)^2 for a >= 0, Q32.32; 0 for a <= 0. */
