@@ -1483,10 +1483,15 @@ typedef enum { START_GOES_ON, START_LAST, START_TRIAL, START_NARROW, START_PRIOR
  * the usual 0.3 m first reach let such cars pull the fit onto them (a busy
  * road at 3 cm of noise stood still for 3.5 s). */
 #define NARROW_RADIUS FX_Q16_16_C(0.1)
-/* The narrow first reach against a scan held: the vehicle stands or
- * crawls, so a car creeping off 3 cm from where the held scan saw it stays
- * out of the first pass. */
-#define HOLD_REACH FX_Q16_16_C(0.03)
+/* The first reach of a prediction between scans at most CLOSE_SCANS_US
+ * apart (the LMS's 13 and 27 ms): 3 cm. At EGO_MAX_ACCELERATION (1.5 g)
+ * a motion changes by a dt^2 = 1.4 cm a scan at most, while a car driving
+ * with us at 7.5 m/s is 0.1 m off the prediction: within NARROW_RADIUS,
+ * behind the platoon it pulled tracked lines onto the trucks (issue 17).
+ * Against a scan held it keeps a car creeping off 3 cm from where the
+ * held scan saw it out of the first pass. */
+#define CLOSE_REACH FX_Q16_16_C(0.03)
+#define CLOSE_SCANS_US 30000u
 
 /* The first reach of a prior's first tracking (START_PRIOR, a trial):
  * odometry's error, up to a tenth of the distance (a wheel slipping, a
@@ -1531,7 +1536,8 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, start, true,
                     &params->track);
     if (kind == START_NARROW) {
-        ego_track_narrow(&state->tracking, holding(state) ? HOLD_REACH : NARROW_RADIUS);
+        ego_track_narrow(&state->tracking,
+                         (dt_us <= CLOSE_SCANS_US) ? CLOSE_REACH : NARROW_RADIUS);
     } else if (kind == START_PRIOR) {
         ego_track_narrow(&state->tracking, prior_reach(start));
     }

@@ -857,6 +857,45 @@ static void test_ego_a_platoon_is_never_silently_wrong(void)
     TEST_ASSERT_EQUAL_UINT(0u, on_objects);
 }
 
+/* Trucks that pull in ahead at our speed while we track the street (issue
+ * 17): at 6.75 m/s and 75 Hz they are 9 cm a scan off the prediction,
+ * within the 10 cm first reach that tracking had for every interval. It
+ * slid onto them (standing still, on objects) within a line of their
+ * arrival; with the 3 cm first reach between scans 13 ms apart the
+ * street's motion holds. Lines after the trucks arrive more than 2 cm
+ * off the truth. */
+static unsigned trucks_pull_in(double per_scan, unsigned arrive)
+{
+    ego_defaults(&g_params);
+    ego_budget_defaults(&g_params);
+    ego_reset(&g_state);
+    unsigned off = 0u;
+    for (unsigned k = 0u; k < 120u; k++) {
+        synth_wall_t walls[20];
+        const double x = per_scan * (double)k;
+        synth_scan(walls, street_walls(k >= arrive, x, walls), x, 0.0, 0.0, 181u, LMS_UNIT_CM,
+                   &g_lms);
+        ego_output_t out;
+        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms),
+                                                  k * 13333u, &out));
+        const double ex = fx_q16_16_to_double(out.pose.x) - per_scan;
+        const double ey = fx_q16_16_to_double(out.pose.y);
+        if (k > arrive && sqrt(ex * ex + ey * ey) > 0.02) {
+            char msg[96];
+            (void)snprintf(msg, sizeof msg, "scan %u: pose (%.3f, %.3f) flags 0x%x", k,
+                           fx_q16_16_to_double(out.pose.x), ey, (unsigned)out.flags);
+            TEST_MESSAGE(msg);
+            off++;
+        }
+    }
+    return off;
+}
+
+static void test_ego_tracking_keeps_the_street_when_trucks_pull_in(void)
+{
+    TEST_ASSERT_EQUAL_UINT(0u, trucks_pull_in(0.09, 40u));
+}
+
 /* A line while a scan is held is judged as a line, from the last scan
  * processed: standing still, then 2 cm at once (1.5 m/s in 13 ms: no
  * vehicle) is suspect (the registration before slid, or this one did). */
@@ -1050,6 +1089,7 @@ int main(void)
     RUN_TEST(test_ego_unbounded_answers_every_scan);
     RUN_TEST(test_ego_budget_recovers_from_a_jump_without_a_hole);
     RUN_TEST(test_ego_a_platoon_is_never_silently_wrong);
+    RUN_TEST(test_ego_tracking_keeps_the_street_when_trucks_pull_in);
     RUN_TEST(test_ego_standstill_holds_while_someone_walks_off);
     RUN_TEST(test_ego_a_jump_while_held_is_suspect);
     RUN_TEST(test_ego_slow_motion_adds_up_through_the_holds);
