@@ -45,8 +45,8 @@ typedef struct {
     uint16_t count;            /* beams, <= EGO_MAX_BEAMS */
     const uint16_t *range;     /* count ranges, units of range_unit_um; 0: none */
     uint32_t range_unit_um;    /* micrometres per range unit, 1 .. 500000 */
-    fx_q16_16_t origin_x;      /* the sensor's origin in the vehicle frame, m */
-    fx_q16_16_t origin_y;
+    fx_q16_16_t origin_x;      /* the sensor's origin in the vehicle frame, m, */
+    fx_q16_16_t origin_y;      /* each within +-EGO_MAX_ORIGIN */
     uint64_t first_bearing;    /* beam 0: Q32.32 binary angle, vehicle frame */
     uint64_t bearing_step;     /* between beams: Q32.32 binary angle */
     const fx_bam32_t *bearing; /* NULL: uniform; else count bearings, vehicle frame */
@@ -56,6 +56,10 @@ typedef struct {
 } ego_range_scan_t;
 
 #define EGO_MAX_PASSES 4u
+/* The farthest a sensor's origin may be from the vehicle's, on each axis,
+ * Q16.16 m: a sensor on the vehicle, with room. The points' arithmetic
+ * takes them within a few hundred metres of the vehicle's origin. */
+#define EGO_MAX_ORIGIN FX_Q16_16_C(100.0)
 /* The longest scan, from its first beam to its last, ns. */
 #define EGO_MAX_SCAN_SPAN_NS 1000000000u
 
@@ -124,12 +128,15 @@ static inline bool ego_range_times_ok(const ego_range_scan_t *scan)
 
 /* True when the scan is usable: arrays given, count within the capacity,
  * a range unit in 1 um .. 0.5 m (the largest range, 65535 units, then
- * fits Q16.16 metres), beam times within ego_range_times_ok, every step between neighbouring bearings in (0, half a
- * turn), at most one turn in all. One pass over the bearings of a table. */
+ * fits Q16.16 metres), the origin within EGO_MAX_ORIGIN, beam times within
+ * ego_range_times_ok, every step between neighbouring bearings in (0, half
+ * a turn), at most one turn in all. One pass over the bearings of a table. */
 static inline bool ego_range_check(const ego_range_scan_t *scan)
 {
     if (scan == NULL || scan->count > EGO_MAX_BEAMS || (scan->count > 0u && scan->range == NULL) ||
-        scan->range_unit_um == 0u || scan->range_unit_um > 500000u || !ego_range_times_ok(scan)) {
+        scan->range_unit_um == 0u || scan->range_unit_um > 500000u || !ego_range_times_ok(scan) ||
+        scan->origin_x > EGO_MAX_ORIGIN || scan->origin_x < -EGO_MAX_ORIGIN ||
+        scan->origin_y > EGO_MAX_ORIGIN || scan->origin_y < -EGO_MAX_ORIGIN) {
         return false;
     }
     const uint16_t steps = (scan->count > 0u) ? (uint16_t)(scan->count - 1u) : 0u;

@@ -226,6 +226,16 @@ static beam_motion_t motion_at(const ego_skew_t *skew, int64_t tau_ns)
     return m;
 }
 
+/* The skew's motion is within EGO_MAX_SPEED over its interval, on each
+ * axis (|x| < 2^31, EGO_MAX_SPEED dt < 2^56). */
+static bool vehicle_motion(const ego_skew_t *skew)
+{
+    const int64_t most = (int64_t)EGO_MAX_SPEED * skew->dt_us / 1000000;
+    const int64_t x = skew->motion.x;
+    const int64_t y = skew->motion.y;
+    return x <= most && x >= -most && y <= most && y >= -most;
+}
+
 ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const ego_prep_params_t *params,
                                             const ego_skew_t *skew, ego_scan_t *scan)
 {
@@ -251,8 +261,11 @@ ego_prep_status_t ego_scan_prepare_deskewed(const ego_range_scan_t *in, const eg
     beam_step = (beam_step < 1u) ? 1u : ((beam_step > 8u) ? 8u : beam_step);
 
     /* De-skewing: a scan with beam times and a motion over a known
-     * interval; offsets from the scan's time within +-1 s (ego_range.h). */
-    const bool deskew = skew != NULL && skew->dt_us != 0u && (in->beam_ns != 0u || ego_range_passes(in) > 1u);
+     * interval, a vehicle's (within EGO_MAX_SPEED: 8 m over 1 us, scaled to
+     * a beam 10 ms off, moved points by 80 km); offsets from the scan's
+     * time within +-1 s (ego_range.h), so a point moves 150 m at most. */
+    const bool deskew = skew != NULL && skew->dt_us != 0u && (in->beam_ns != 0u || ego_range_passes(in) > 1u) &&
+                        vehicle_motion(skew);
     const int64_t mean_ns = deskew ? (int64_t)ego_range_mean_ns(in) : 0;
     const uint64_t scale_q48 = q48_per_unit(in->range_unit_um);
     sensor_point_t prev = {0, 0, 0};

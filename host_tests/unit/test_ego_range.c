@@ -211,6 +211,15 @@ static void test_ego_range_malformed_scans_are_refused(void)
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
     bad.beam_ns = 1390000u; /* 0.5 s + 359 * 1.39 ms: within a second */
     TEST_ASSERT_TRUE(ego_range_check(&bad));
+    bad = g_scan;
+    bad.origin_x = EGO_MAX_ORIGIN; /* a sensor 100 m off the vehicle's origin: fine */
+    bad.origin_y = -EGO_MAX_ORIGIN;
+    TEST_ASSERT_TRUE(ego_range_check(&bad));
+    bad.origin_x = EGO_MAX_ORIGIN + 1; /* beyond: refused on either axis */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad.origin_x = 0;
+    bad.origin_y = -EGO_MAX_ORIGIN - 1;
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
     TEST_ASSERT_FALSE(ego_range_check(NULL));
 
     /* The state kept the good scan: the next one matches it. */

@@ -380,6 +380,17 @@ static void test_ego_scan_deskews_an_interlaced_scan_in_motion(void)
     skew.motion.x = FX_Q16_16_C(v * sin(w * dt) / w);
     skew.motion.y = FX_Q16_16_C(v * (1.0 - cos(w * dt)) / w);
     skew.motion.theta = (fx_bam32_t)(uint32_t)lround(w * dt / 6.283185307179586 * 4294967296.0);
+    /* A motion no vehicle makes (faster than EGO_MAX_SPEED over its
+     * interval: the fuzzer's prior of metres over a microsecond moved
+     * points by kilometres) de-skews nothing: the points as measured. */
+    ego_skew_t wild = skew;
+    wild.dt_us = 1u;
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare_deskewed(&g_range, &p, &wild, &g_scan));
+    static ego_scan_t measured;
+    TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&g_range, &p, &measured));
+    TEST_ASSERT_EQUAL_UINT16(measured.count, g_scan.count);
+    TEST_ASSERT_EQUAL_INT32_ARRAY(measured.x, g_scan.x, measured.count);
+    TEST_ASSERT_EQUAL_INT32_ARRAY(measured.y, g_scan.y, measured.count);
     TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare_deskewed(&g_range, &p, &skew, &g_scan));
     TEST_ASSERT_TRUE(g_scan.count > 100u);
     double worst = 0.0;
