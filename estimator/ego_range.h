@@ -131,30 +131,6 @@ static inline bool ego_range_times_ok(const ego_range_scan_t *scan)
  * fits Q16.16 metres), the origin within EGO_MAX_ORIGIN, beam times within
  * ego_range_times_ok, every step between neighbouring bearings in (0, half
  * a turn), at most one turn in all. One pass over the bearings of a table. */
-static inline bool ego_range_check(const ego_range_scan_t *scan)
-{
-    if (scan == NULL || scan->count > EGO_MAX_BEAMS || (scan->count > 0u && scan->range == NULL) ||
-        scan->range_unit_um == 0u || scan->range_unit_um > 500000u || !ego_range_times_ok(scan) ||
-        scan->origin_x > EGO_MAX_ORIGIN || scan->origin_x < -EGO_MAX_ORIGIN ||
-        scan->origin_y > EGO_MAX_ORIGIN || scan->origin_y < -EGO_MAX_ORIGIN) {
-        return false;
-    }
-    const uint16_t steps = (scan->count > 0u) ? (uint16_t)(scan->count - 1u) : 0u;
-    if (scan->bearing == NULL) {
-        const uint64_t half = (uint64_t)1 << 63;
-        /* steps * step <= one turn (2^64), without overflow. */
-        return scan->bearing_step != 0u && scan->bearing_step < half &&
-               (steps == 0u || scan->bearing_step <= UINT64_MAX / steps);
-    }
-    uint64_t sweep = 0u;
-    for (uint16_t k = 1u; k < scan->count; k++) {
-        const uint32_t turn = scan->bearing[k] - scan->bearing[k - 1u];
-        if (turn == 0u || turn >= 0x80000000u) {
-            return false;
-        }
-        sweep += turn;
-    }
-    return sweep <= 0xFFFFFFFFu;
-}
+bool ego_range_check(const ego_range_scan_t *scan); /* in ego_scan.c */
 
 #endif /* EGO_RANGE_H */

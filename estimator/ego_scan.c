@@ -226,11 +226,45 @@ static beam_motion_t motion_at(const ego_skew_t *skew, int64_t tau_ns)
     return m;
 }
 
-/* The skew's motion is within EGO_MAX_SPEED over its interval, on each
- * axis (|x| < 2^31, EGO_MAX_SPEED dt < 2^56). */
+/* |v| <= EGO_MAX_ORIGIN: v + EGO_MAX_ORIGIN in [0, 2 EGO_MAX_ORIGIN], in
+ * unsigned arithmetic (wrapping, defined) so one comparison does. */
+static bool origin_ok(fx_q16_16_t v)
+{
+    return (uint32_t)v + (uint32_t)EGO_MAX_ORIGIN <= 2u * (uint32_t)EGO_MAX_ORIGIN;
+}
+
+/* ego_range.h; here, not inline there: ego_process and the preparation
+ * both check, and a copy in each cost the 64 KiB image 0.2 KB. */
+bool ego_range_check(const ego_range_scan_t *scan)
+{
+    if (scan == NULL || scan->count > EGO_MAX_BEAMS || (scan->count > 0u && scan->range == NULL) ||
+        scan->range_unit_um == 0u || scan->range_unit_um > 500000u || !ego_range_times_ok(scan) ||
+        !origin_ok(scan->origin_x) || !origin_ok(scan->origin_y)) {
+        return false;
+    }
+    const uint16_t steps = (scan->count > 0u) ? (uint16_t)(scan->count - 1u) : 0u;
+    if (scan->bearing == NULL) {
+        const uint64_t half = (uint64_t)1 << 63;
+        /* steps * step <= one turn (2^64), without overflow. */
+        return scan->bearing_step != 0u && scan->bearing_step < half &&
+               (steps == 0u || scan->bearing_step <= UINT64_MAX / steps);
+    }
+    uint64_t sweep = 0u;
+    for (uint16_t k = 1u; k < scan->count; k++) {
+        const uint32_t turn = scan->bearing[k] - scan->bearing[k - 1u];
+        if (turn == 0u || turn >= 0x80000000u) {
+            return false;
+        }
+        sweep += turn;
+    }
+    return sweep <= 0xFFFFFFFFu;
+}
+
+/* The skew's motion is within EGO_MAX_SPEED over its interval (in whole
+ * milliseconds, no 64-bit division), on each axis. */
 static bool vehicle_motion(const ego_skew_t *skew)
 {
-    const int64_t most = (int64_t)EGO_MAX_SPEED * skew->dt_us / 1000000;
+    const int64_t most = (int64_t)(EGO_MAX_SPEED / 1000) * (skew->dt_us / 1000u); /* Q16.16 m */
     const int64_t x = skew->motion.x;
     const int64_t y = skew->motion.y;
     return x <= most && x >= -most && y <= most && y >= -most;
