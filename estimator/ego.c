@@ -1430,8 +1430,9 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
         step = ((step + passes - 1u) / passes) * passes;
         lead = one_pass_lead(scan);
     }
-    if (step > 1u) {
-        /* Every step-th beam: the preparation thins to that spacing. */
+    if (step > 1u && scan->count > 1u) {
+        /* Every step-th beam: the preparation thins to that spacing (a
+         * one-beam scan has none: a table's beam 1 is past its end). */
         const uint64_t spacing = (ego_range_bearing(scan, 1u) - ego_range_bearing(scan, 0u)) * (uint64_t)step;
         prep.beam_spacing = (spacing > prep.beam_spacing && spacing < FX_BAM32_HALF)
                                 ? (fx_bam32_t)spacing

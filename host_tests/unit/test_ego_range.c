@@ -247,6 +247,15 @@ static void test_ego_range_tiny_scans_are_flagged(void)
     g_range[0] = 500u; /* 5 m */
     TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_scan, 26667u, &out));
     TEST_ASSERT_TRUE((out.flags & EGO_FLAG_TOO_FEW_POINTS) != 0u);
+    /* One beam from a table of one bearing, in two interlaced passes: the
+     * preparation thins to whole passes and read the spacing of beams 0
+     * and 1 past the table's end (finding E3; ASan in the asan build). */
+    static const fx_bam32_t one_bearing[1] = {0x40000000u};
+    g_scan.bearing = one_bearing;
+    g_scan.passes = 2u;
+    g_scan.pass_us = 13333u;
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, &g_scan, 53334u, &out));
+    TEST_ASSERT_TRUE((out.flags & EGO_FLAG_TOO_FEW_POINTS) != 0u);
 }
 
 /* Beam times: two passes interlaced (the LMS 2xx at 0.5 deg), the scan's
