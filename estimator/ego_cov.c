@@ -99,32 +99,31 @@ static void fit(scaled3_t *a, unsigned bits)
     }
 }
 
-/* a b, both rescaled to PRODUCT_BITS first. */
-static scaled3_t product(scaled3_t a, scaled3_t b)
+/* c = a b, both rescaled to PRODUCT_BITS first (c may be a or b). A
+ * matrix times a diagonal one scales its columns. */
+static void product(const scaled3_t *a, const scaled3_t *b, scaled3_t *c)
 {
-    fit(&a, PRODUCT_BITS);
-    fit(&b, PRODUCT_BITS);
-    scaled3_t c;
+    scaled3_t x = *a;
+    scaled3_t y = *b;
+    fit(&x, PRODUCT_BITS);
+    fit(&y, PRODUCT_BITS);
     for (unsigned i = 0u; i < 3u; i++) {
         for (unsigned j = 0u; j < 3u; j++) {
-            c.m[3u * i + j] = a.m[3u * i] * b.m[j] + a.m[3u * i + 1u] * b.m[3u + j] +
-                              a.m[3u * i + 2u] * b.m[6u + j];
+            c->m[3u * i + j] = x.m[3u * i] * y.m[j] + x.m[3u * i + 1u] * y.m[3u + j] +
+                               x.m[3u * i + 2u] * y.m[6u + j];
         }
     }
-    c.e = a.e + b.e;
-    return c;
+    c->e = x.e + y.e;
 }
 
-static scaled3_t transpose(const scaled3_t *a)
+static void transpose(const scaled3_t *a, scaled3_t *t)
 {
-    scaled3_t t;
     for (unsigned i = 0u; i < 3u; i++) {
         for (unsigned j = 0u; j < 3u; j++) {
-            t.m[3u * i + j] = a->m[3u * j + i];
+            t->m[3u * i + j] = a->m[3u * j + i];
         }
     }
-    t.e = a->e;
-    return t;
+    t->e = a->e;
 }
 
 /* v * 2^s (s < 0: rounded; s > 0: saturated). */
@@ -139,43 +138,29 @@ static int64_t times_pow2(int64_t v, int32_t s)
     return v * ((int64_t)1 << s);
 }
 
-/* a + b, both rescaled to 60 bits and to the larger power of two. */
-static scaled3_t sum(scaled3_t a, scaled3_t b)
+/* a += b, both rescaled to 60 bits (b too) and to the larger power of two. */
+static void add(scaled3_t *a, scaled3_t *b)
 {
-    fit(&a, 60u);
-    fit(&b, 60u);
-    scaled3_t *low = (a.e < b.e) ? &a : &b;
-    const scaled3_t *high = (a.e < b.e) ? &b : &a;
-    const unsigned s = (unsigned)(high->e - low->e);
+    fit(a, 60u);
+    fit(b, 60u);
+    const int32_t e = (a->e > b->e) ? a->e : b->e;
     for (unsigned k = 0u; k < 9u; k++) {
-        low->m[k] = shr_round(low->m[k], s) + high->m[k];
+        a->m[k] = shr_round(a->m[k], (unsigned)(e - a->e)) +
+                  shr_round(b->m[k], (unsigned)(e - b->e));
     }
-    low->e = high->e;
-    return *low;
+    a->e = e;
 }
 
-/* a D, D = diag(d0, d1, d2) * 2^e (column j of a times dj). */
-static scaled3_t scale_columns(scaled3_t a, int64_t d0, int64_t d1, int64_t d2, int32_t e)
+/* diag(d0, d1, d2) * 2^e. */
+static void set_diagonal(scaled3_t *d, int64_t d0, int64_t d1, int64_t d2, int32_t e)
 {
-    scaled3_t d = {{d0, d1, d2, 0, 0, 0, 0, 0, 0}, e};
-    fit(&a, PRODUCT_BITS);
-    fit(&d, PRODUCT_BITS);
-    for (unsigned i = 0u; i < 3u; i++) {
-        for (unsigned j = 0u; j < 3u; j++) {
-            a.m[3u * i + j] *= d.m[j];
-        }
-    }
-    a.e += d.e;
-    return a;
+    *d = (scaled3_t){{d0, 0, 0, 0, d1, 0, 0, 0, d2}, e};
 }
 
-/* The inverse of a symmetric positive definite a by its cofactors; false
- * when its determinant is not positive. */
-static bool inverse(scaled3_t a, scaled3_t *inv)
+/* The cofactors of a symmetric m into c (c = adj(m), symmetric too);
+ * returns the determinant. */
+static int64_t cofactors(const int64_t m[9], int64_t c[9])
 {
-    fit(&a, INVERSE_BITS);
-    const int64_t *m = a.m;
-    int64_t c[9];
     c[0] = m[4] * m[8] - m[5] * m[7];
     c[1] = m[2] * m[7] - m[1] * m[8];
     c[2] = m[1] * m[5] - m[2] * m[4];
@@ -185,7 +170,16 @@ static bool inverse(scaled3_t a, scaled3_t *inv)
     c[3] = c[1];
     c[6] = c[2];
     c[7] = c[5];
-    const int64_t det = m[0] * c[0] + m[1] * c[3] + m[2] * c[6];
+    return m[0] * c[0] + m[1] * c[3] + m[2] * c[6];
+}
+
+/* The inverse of a symmetric positive definite a by its cofactors (a is
+ * rescaled); false when its determinant is not positive. */
+static bool inverse(scaled3_t *a, scaled3_t *inv)
+{
+    fit(a, INVERSE_BITS);
+    int64_t c[9];
+    const int64_t det = cofactors(a->m, c);
     if (det <= 0) {
         return false;
     }
@@ -199,7 +193,7 @@ static bool inverse(scaled3_t a, scaled3_t *inv)
     for (unsigned k = 0u; k < 9u; k++) {
         inv->m[k] = (c[k] * ((int64_t)1 << 21)) / d; /* |c| < 2^41 */
     }
-    inv->e = -21 - (int32_t)s - a.e;
+    inv->e = -21 - (int32_t)s - a->e;
     return true;
 }
 
@@ -259,11 +253,17 @@ static void guard_rounding(ego_cov_t *cov)
     unknown_where_saturated(cov);
 }
 
+/* *entry + a b (a, b Q2.30 in the int32 range), rounded, saturated. */
+static void add_product(fx_q2_30_t *entry, int64_t a, int64_t b)
+{
+    *entry = fx_sat_s32((int64_t)*entry + fx_shr_round_s64(a * b, 30u));
+}
+
 void ego_cov_unmeasured_along(ego_cov_t *cov, fx_q2_30_t c, fx_q2_30_t s)
 {
-    cov->xx = fx_sat_s32((int64_t)cov->xx + fx_shr_round_s64((int64_t)c * c, 30u));
-    cov->xy = fx_sat_s32((int64_t)cov->xy + fx_shr_round_s64((int64_t)c * s, 30u));
-    cov->yy = fx_sat_s32((int64_t)cov->yy + fx_shr_round_s64((int64_t)s * s, 30u));
+    add_product(&cov->xx, c, c);
+    add_product(&cov->xy, c, s);
+    add_product(&cov->yy, s, s);
     guard_rounding(cov);
 }
 
@@ -273,18 +273,17 @@ void ego_cov_unmeasured_rotation(ego_cov_t *cov)
     unknown_where_saturated(cov);
 }
 
+/* Row and column of xx, xy, xt, yy, yt, tt in a 3x3 matrix. */
+static const uint8_t row_of[6] = {0u, 0u, 0u, 1u, 1u, 2u};
+static const uint8_t col_of[6] = {0u, 1u, 2u, 1u, 2u, 2u};
+
 /* Symmetric 3x3 from xx, xy, xt, yy, yt, tt. */
 static void set_symmetric(scaled3_t *a, const int64_t s[6], int32_t e)
 {
-    a->m[0] = s[0];
-    a->m[1] = s[1];
-    a->m[2] = s[2];
-    a->m[3] = s[1];
-    a->m[4] = s[3];
-    a->m[5] = s[4];
-    a->m[6] = s[2];
-    a->m[7] = s[4];
-    a->m[8] = s[5];
+    static const uint8_t entry[9] = {0u, 1u, 2u, 1u, 3u, 4u, 2u, 4u, 5u};
+    for (unsigned k = 0u; k < 9u; k++) {
+        a->m[k] = s[entry[k]];
+    }
     a->e = e;
 }
 
@@ -397,10 +396,8 @@ void ego_cov_estimate(const ego_cov_group_t group[2], fx_q16_16_t cut, bool weig
         k[i] = ((int32_t)b - 33) / 2;
         k[i] = (k[i] > MAX_AXIS_SHIFT) ? MAX_AXIS_SHIFT : (k[i] < -MAX_AXIS_SHIFT) ? -MAX_AXIS_SHIFT : k[i];
     }
-    static const unsigned row[6] = {0u, 0u, 0u, 1u, 1u, 2u};
-    static const unsigned col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
     for (unsigned i = 0u; i < 6u; i++) {
-        const int32_t by = -(k[row[i]] + k[col[i]]);
+        const int32_t by = -(k[row_of[i]] + k[col_of[i]]);
         a[i] = times_pow2(a[i], by);
         s[i] = times_pow2(s[i], by);
     }
@@ -409,12 +406,16 @@ void ego_cov_estimate(const ego_cov_group_t group[2], fx_q16_16_t cut, bool weig
     set_symmetric(&am, a, -32);
     set_symmetric(&sm, s, -32);
     scaled3_t inv;
-    if (!inverse(am, &inv)) {
+    if (!inverse(&am, &inv)) {
         return;
     }
     /* The residuals' part: A^-1 S A^-1 times the variance (Q32). */
-    scaled3_t c = product(product(inv, sm), inv);
-    c = scale_columns(c, variance, variance, variance, -32);
+    scaled3_t c;
+    scaled3_t d;
+    product(&inv, &sm, &c);
+    product(&c, &inv, &c);
+    set_diagonal(&d, variance, variance, variance, -32);
+    product(&c, &d, &c);
     /* The start's part: where the equations barely constrain the pose the
      * damping keeps it at the start (the prediction), whose error is not
      * the residuals'. Each pass leaves R = A^-1 E of it (E the damping);
@@ -423,26 +424,27 @@ void ego_cov_estimate(const ego_cov_group_t group[2], fx_q16_16_t cut, bool weig
      * surfaces constrain the pose. In the axes' units E_i 2^-2k_i and P_i
      * 2^2k_i. */
     const int32_t least = (k[0] < k[1]) ? ((k[0] < k[2]) ? k[0] : k[2]) : ((k[1] < k[2]) ? k[1] : k[2]);
-    const scaled3_t r = scale_columns(inv, times_pow2(damp[0], -2 * k[0]),
-                                      times_pow2(damp[1], -2 * k[1]),
-                                      times_pow2(damp[2], -2 * k[2]), -32);
-    const scaled3_t r2 = product(r, r);
-    const scaled3_t start =
-        product(scale_columns(r2, (int64_t)1 << (2 * (k[0] - least)), (int64_t)1 << (2 * (k[1] - least)),
-                              (int64_t)1 << (2 * (k[2] - least)), 2 * least),
-                transpose(&r2));
-    c = sum(c, start);
-    /* Back to SI units: entry ij times 2^-(k_i + k_j). */
-    const int32_t e = c.e;
-    cov->xx = to_q30(c.m[0], e - 2 * k[0]);
-    cov->xy = to_q30(c.m[1], e - k[0] - k[1]);
-    cov->xt = to_q30(c.m[2], e - k[0] - k[2]);
-    cov->yy = to_q30(c.m[4], e - 2 * k[1]);
-    cov->yt = to_q30(c.m[5], e - k[1] - k[2]);
-    cov->tt = to_q30(c.m[8], e - 2 * k[2]);
-    cov->xx = (cov->xx < 0) ? 0 : cov->xx;
-    cov->yy = (cov->yy < 0) ? 0 : cov->yy;
-    cov->tt = (cov->tt < 0) ? 0 : cov->tt;
+    scaled3_t r2;
+    scaled3_t start;
+    set_diagonal(&d, times_pow2(damp[0], -2 * k[0]), times_pow2(damp[1], -2 * k[1]),
+                 times_pow2(damp[2], -2 * k[2]), -32);
+    product(&inv, &d, &r2);
+    product(&r2, &r2, &r2);
+    set_diagonal(&d, (int64_t)1 << (2 * (k[0] - least)), (int64_t)1 << (2 * (k[1] - least)),
+                 (int64_t)1 << (2 * (k[2] - least)), 2 * least);
+    product(&r2, &d, &start);
+    transpose(&r2, &d);
+    product(&start, &d, &start);
+    add(&c, &start);
+    /* Back to SI units: entry ij times 2^-(k_i + k_j); a variance below 0
+     * is 0. */
+    fx_q2_30_t *const entry[6] = {&cov->xx, &cov->xy, &cov->xt, &cov->yy, &cov->yt, &cov->tt};
+    for (unsigned i = 0u; i < 6u; i++) {
+        const unsigned r = row_of[i];
+        const unsigned q = col_of[i];
+        const fx_q2_30_t v = to_q30(c.m[3u * r + q], c.e - k[r] - k[q]);
+        *entry[i] = (r == q && v < 0) ? 0 : v;
+    }
     guard_rounding(cov);
 }
 
@@ -509,14 +511,12 @@ void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, 
     for (unsigned i = 0u; i < 6u; i++) {
         m[i] = (g[0][i] * group[0].n + g[1][i] * group[1].n) / n;
     }
+    /* The turn in lever units: xt and yt divided by the lever, tt twice. */
     const int64_t l = ego_cov_lever(lever);
-    const int64_t e00 = m[0];
-    const int64_t e01 = m[1];
-    const int64_t e11 = m[3];
-    const int64_t e02 = m[2] * ((int64_t)1 << 14) / l;
-    const int64_t e12 = m[4] * ((int64_t)1 << 14) / l;
-    const int64_t e22 = (m[5] * ((int64_t)1 << 14) / l) * ((int64_t)1 << 14) / l;
-    const int64_t trace = e00 + e11 + e22;
+    m[2] = m[2] * ((int64_t)1 << 14) / l;
+    m[4] = m[4] * ((int64_t)1 << 14) / l;
+    m[5] = (m[5] * ((int64_t)1 << 14) / l) * ((int64_t)1 << 14) / l;
+    const int64_t trace = m[0] + m[3] + m[5];
     if (trace <= 0) {
         return;
     }
@@ -524,17 +524,14 @@ void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, 
      * (every entry below 2^19 in magnitude; cofactors below 2^38, the
      * determinant below 2^59). */
     const int32_t up = 18 - ((int32_t)bits_u64((uint64_t)trace) - 1);
-    const int64_t a00 = times_pow2(e00, up);
-    const int64_t a01 = times_pow2(e01, up);
-    const int64_t a02 = times_pow2(e02, up);
-    const int64_t a11 = times_pow2(e11, up);
-    const int64_t a12 = times_pow2(e12, up);
-    const int64_t a22 = times_pow2(e22, up);
-    const int64_t scaled_trace = a00 + a11 + a22;
-    const int64_t c[9] = {a11 * a22 - a12 * a12, a02 * a12 - a01 * a22, a01 * a12 - a02 * a11,
-                          a02 * a12 - a01 * a22, a00 * a22 - a02 * a02, a01 * a02 - a00 * a12,
-                          a01 * a12 - a02 * a11, a01 * a02 - a00 * a12, a00 * a11 - a01 * a01};
-    const int64_t det = a00 * c[0] + a01 * c[1] + a02 * c[2];
+    for (unsigned i = 0u; i < 6u; i++) {
+        m[i] = times_pow2(m[i], up);
+    }
+    const int64_t scaled_trace = m[0] + m[3] + m[5];
+    scaled3_t a;
+    set_symmetric(&a, m, 0);
+    int64_t c[9];
+    const int64_t det = cofactors(a.m, c);
     const int64_t minors = c[0] + c[4] + c[8];
     /* The smallest eigenvalue is det / minors when it is well below the
      * others (the minors sum to the products of eigenvalue pairs), as it
@@ -555,10 +552,13 @@ void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, 
         most = (magnitude(col[k]) > most) ? magnitude(col[k]) : most;
     }
     const int32_t down = (bits_u64(most) > 30u) ? (int32_t)bits_u64(most) - 30 : 0;
-    const int64_t v0 = times_pow2(col[0], -down);
-    const int64_t v1 = times_pow2(col[1], -down);
-    const int64_t v2 = times_pow2(col[2], -down);
-    const uint64_t norm = fx_sqrt_u64((uint64_t)(v0 * v0) + (uint64_t)(v1 * v1) + (uint64_t)(v2 * v2));
+    int64_t v[3];
+    uint64_t norm_sq = 0u;
+    for (unsigned k = 0u; k < 3u; k++) {
+        v[k] = times_pow2(col[k], -down);
+        norm_sq += (uint64_t)(v[k] * v[k]);
+    }
+    const uint64_t norm = fx_sqrt_u64(norm_sq);
     if (norm == 0u) {
         /* No direction stands out (every entry 0): all of it is weak;
          * call it the turn and the translation together. */
@@ -566,9 +566,9 @@ void ego_cov_weakest(const ego_cov_group_t group[2], fx_bam32_t main_direction, 
         weak->dir[2] = 127;
         return;
     }
-    const int64_t t = (int64_t)1 << 14;
-    const int64_t unit[3] = {v0 * t / (int64_t)norm, v1 * t / (int64_t)norm, v2 * t / (int64_t)norm};
+    int64_t unit[3];
     for (unsigned k = 0u; k < 3u; k++) {
+        unit[k] = v[k] * ((int64_t)1 << 14) / (int64_t)norm;
         const int64_t q = fx_shr_round_s64(unit[k], 7u); /* Q1.14 -> Q0.7 */
         weak->dir[k] = (int8_t)((q > 127) ? 127 : (q < -127) ? -127 : q);
     }
@@ -585,13 +585,9 @@ void ego_cov_unmeasured_direction(ego_cov_t *cov, const ego_weak_t *weak, fx_q16
     const int64_t u[3] = {(int64_t)weak->dir[0] * ((int64_t)1 << 23), (int64_t)weak->dir[1] * ((int64_t)1 << 23),
                           (int64_t)weak->dir[2] * ((int64_t)1 << 39) / l};
     fx_q2_30_t *const entry[6] = {&cov->xx, &cov->xy, &cov->xt, &cov->yy, &cov->yt, &cov->tt};
-    static const unsigned row[6] = {0u, 0u, 0u, 1u, 1u, 2u};
-    static const unsigned col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
     for (unsigned i = 0u; i < 6u; i++) {
         /* Each factor below 2^31 + lever's 2^31 / 0.5 m: clamp the turn's. */
-        const int64_t a = fx_sat_s32(u[row[i]]);
-        const int64_t b = fx_sat_s32(u[col[i]]);
-        *entry[i] = fx_sat_s32((int64_t)*entry[i] + fx_shr_round_s64(a * b, 30u));
+        add_product(entry[i], fx_sat_s32(u[row_of[i]]), fx_sat_s32(u[col_of[i]]));
     }
     guard_rounding(cov);
 }

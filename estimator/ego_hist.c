@@ -661,6 +661,31 @@ static uint64_t coarse_bins(const ego_hist_t *h, uint32_t from, unsigned shift, 
     return top;
 }
 
+/* A histogram in 1-deg bins from fine bin `from` on (coarse_bins), in 16
+ * bits: scaled down to fit, and small counts scaled up too (the norms'
+ * square roots round); its squared norm. False when it is empty. */
+static bool coarse_scaled(const ego_hist_t *h, uint32_t from, uint16_t *out, uint64_t *norm_sq)
+{
+    const uint64_t top = coarse_bins(h, from, 0u, 0u, NULL);
+    if (top == 0u) {
+        return false;
+    }
+    unsigned down = 0u;
+    while ((top >> down) > 0xFFFFu) {
+        down++;
+    }
+    unsigned up = 0u;
+    while ((top << (up + 1u)) <= 0xFFFFu) {
+        up++;
+    }
+    (void)coarse_bins(h, from, down, up, out);
+    *norm_sq = 0u;
+    for (uint16_t c = 0u; c < GUESS_BINS; c++) {
+        *norm_sq += (uint32_t)out[c] * out[c];
+    }
+    return true;
+}
+
 /* The coarse correlation's local maxima within +-max_shift_coarse degrees
  * of centre, largest first (at most PEAKS_MAX): each peak's shift in fine
  * bins, its dot product and its neighbours' (a maximum: at least its left
@@ -676,37 +701,12 @@ static uint8_t coarse_peaks(const ego_hist_t *current, const ego_hist_t *last, f
      * bins. */
     const uint32_t phase = (uint32_t)(((mid % (int32_t)GUESS_GROUP) + (int32_t)GUESS_GROUP) %
                                       (int32_t)GUESS_GROUP);
-    const uint64_t top_a = coarse_bins(current, 0u, 0u, 0u, NULL);
-    const uint64_t top_b = coarse_bins(last, phase, 0u, 0u, NULL);
-    if (top_a == 0u || top_b == 0u) {
-        return 0u;
-    }
-    unsigned sa = 0u;
-    while ((top_a >> sa) > 0xFFFFu) {
-        sa++;
-    }
-    unsigned sb = 0u;
-    while ((top_b >> sb) > 0xFFFFu) {
-        sb++;
-    }
-    /* Small counts are scaled up too: the norms' square roots round. */
-    unsigned ua = 0u;
-    while ((top_a << (ua + 1u)) <= 0xFFFFu) {
-        ua++;
-    }
-    unsigned ub = 0u;
-    while ((top_b << (ub + 1u)) <= 0xFFFFu) {
-        ub++;
-    }
     uint16_t a[GUESS_BINS];
     uint16_t b[GUESS_BINS];
-    (void)coarse_bins(current, 0u, sa, ua, a);
-    (void)coarse_bins(last, phase, sb, ub, b);
     uint64_t na = 0u;
     uint64_t nb = 0u;
-    for (uint16_t c = 0u; c < GUESS_BINS; c++) {
-        na += (uint32_t)a[c] * a[c];
-        nb += (uint32_t)b[c] * b[c];
+    if (!coarse_scaled(current, 0u, a, &na) || !coarse_scaled(last, phase, b, &nb)) {
+        return 0u;
     }
     *den = (int64_t)fx_sqrt_u64(na) * (int64_t)fx_sqrt_u64(nb);
     const int32_t base = (mid - (int32_t)phase) / (int32_t)GUESS_GROUP; /* exact */
