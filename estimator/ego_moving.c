@@ -807,6 +807,16 @@ static uint16_t ucm_of(fx_q16_16_t v)
     return (cm > UINT16_MAX) ? UINT16_MAX : (cm < 0) ? 0u : (uint16_t)cm;
 }
 
+/* An aperture line slower than EGO_MOVING_START_SPEED (dt_us in 1 us ..
+ * 1 s: the limit below 2^16, each square below 2^62). */
+static bool starting_off(const ego_output_t *out, uint32_t dt_us)
+{
+    const int64_t limit = (int64_t)EGO_MOVING_START_SPEED * dt_us / 1000000; /* Q16.16 m */
+    const uint64_t sq = (uint64_t)((int64_t)out->pose.x * out->pose.x) +
+                        (uint64_t)((int64_t)out->pose.y * out->pose.y);
+    return (out->flags & EGO_FLAG_APERTURE) != 0u && sq < (uint64_t)(limit * limit);
+}
+
 uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t time_us,
                         const ego_output_t *out, ego_moving_object_t *objects, uint8_t cap)
 {
@@ -821,10 +831,12 @@ uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t 
         return 0u;
     }
     /* A motion without a trustworthy covariance (suspect, on objects, not
-     * measured) would move the static world against every reference by
-     * an unknown amount: they start over from this scan. Else each
-     * reference adds the line's standard deviations to its slack. */
-    const bool unknown = (out->flags & (EGO_FLAG_SUSPECT | EGO_FLAG_ON_OBJECTS)) != 0u ||
+     * measured, starting off along a corridor) would move the static world
+     * against every reference by an unknown amount: they start over from
+     * this scan. Else each reference adds the line's standard deviations
+     * to its slack. */
+    const bool unknown = starting_off(out, dt_us) ||
+                         (out->flags & (EGO_FLAG_SUSPECT | EGO_FLAG_ON_OBJECTS)) != 0u ||
                          out->cov.xx == EGO_COV_SATURATED || out->cov.yy == EGO_COV_SATURATED ||
                          out->cov.tt == EGO_COV_SATURATED;
     m->refs = unknown ? 0u : m->refs;

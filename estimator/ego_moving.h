@@ -22,7 +22,11 @@
  * direction is the prediction's and whose variance says nothing of it;
  * at most EGO_MOVING_MAX_SLACK, 2 m). A line whose motion has no
  * covariance to trust (flagged suspect or on objects, or a variance
- * saturated at 2 m^2 or 2 rad^2) starts the references over; the tracks
+ * saturated at 2 m^2 or 2 rad^2, or an aperture line slower than
+ * EGO_MOVING_START_SPEED: a vehicle starting off along a corridor, whose
+ * speed along it is the prediction's, a standstill's; stopgo's queue
+ * driving off with us made 0.22 false objects a scan of the posts across
+ * the street) starts the references over; the tracks
  * go on, predicted through it, and the hold may report a vehicle on it
  * (a variance saturates on measured lines too: an aperture's weak
  * direction on objects, stopgo's last lines; restarting the tracks there
@@ -130,6 +134,10 @@
  * without a measured motion (and keeps the predictions' products in
  * range). */
 #define EGO_MOVING_MAX_DT_US 1000000u
+/* An aperture line (its motion along the corridor the prediction's) of a
+ * vehicle slower than this starts the references over: starting off, it
+ * may double its speed within the references' 0.2 s (ego.c's hold speed). */
+#define EGO_MOVING_START_SPEED FX_Q16_16_C(0.75) /* m/s */
 #define EGO_MOVING_CONFIRM 3u
 #define EGO_MOVING_MAX_MISSES 8u
 #define EGO_MOVING_MIN_POINTS 3u
