@@ -7,7 +7,7 @@
  * Input: byte 0 is the setup: bit 0 the budget defaults (else unbounded),
  * bit 1 a prior with every scan, bit 2 a bearing table (else uniform
  * bearings), bit 3 interlaced passes and beam times, bit 4 a sensor
- * origin off the vehicle's, bit 5 the raw scan fields from the input
+ * origin off the vehicle's (+-128 m), bit 5 the raw scan fields from the input
  * (most such scans fail ego_range_check: EGO_ERR_SCAN), bits 6-7 the range
  * unit (1000, 10000, 250 um, or from the input). Then up to 4 scans, each:
  *   u8   count: 1 + c % 181 beams, or c == 255: EGO_MAX_BEAMS (the
@@ -174,8 +174,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fx_q16_16_t ox = 0;
     fx_q16_16_t oy = 0;
     if (with_origin) {
-        ox = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 8; /* +-4 m */
-        oy = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 8;
+        /* +-128 m in 4 mm steps: past EGO_MAX_ORIGIN (100 m: EGO_ERR_SCAN)
+         * and up to it, where the points' arithmetic must still hold. */
+        ox = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 256;
+        oy = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 256;
     }
     uint32_t time_us = 0u;
     int64_t far_um = 0; /* the farthest reading from the vehicle's origin */
