@@ -808,13 +808,12 @@ static uint16_t ucm_of(fx_q16_16_t v)
 }
 
 /* An aperture line slower than EGO_MOVING_START_SPEED (dt_us in 1 us ..
- * 1 s: the limit below 2^16, each square below 2^62). */
+ * 1 s: the limit below 2^16). */
 static bool starting_off(const ego_output_t *out, uint32_t dt_us)
 {
     const int64_t limit = (int64_t)EGO_MOVING_START_SPEED * dt_us / 1000000; /* Q16.16 m */
-    const uint64_t sq = (uint64_t)((int64_t)out->pose.x * out->pose.x) +
-                        (uint64_t)((int64_t)out->pose.y * out->pose.y);
-    return (out->flags & EGO_FLAG_APERTURE) != 0u && sq < (uint64_t)(limit * limit);
+    return (out->flags & EGO_FLAG_APERTURE) != 0u &&
+           dist_sq(out->pose.x, out->pose.y) < (uint64_t)(limit * limit);
 }
 
 uint8_t ego_moving_scan(ego_moving_t *m, const ego_range_scan_t *scan, uint32_t time_us,
