@@ -266,6 +266,15 @@ static bool rests_on_objects(const ego_itcp_result_t *r)
     return r->weak.kind == EGO_WEAK_OBJECTS;
 }
 
+/* Does the static structure alone measure the motion: a registration of
+ * the points not on objects, converged with the accept share, no weak
+ * direction, not a corridor. */
+static bool statically_measured(const ego_params_t *params, ego_itcp_status_t st,
+                                const ego_itcp_result_t *r)
+{
+    return good_enough(params, st, r, false) && r->weak.kind == EGO_WEAK_NONE && !r->aperture;
+}
+
 /* Is a better than b: registered, a balanced inlier share larger by more
  * than margin, then (equal shares, no margin) a smaller residual. */
 static bool better(ego_itcp_status_t sa, const ego_itcp_result_t *a, ego_itcp_status_t sb,
@@ -331,6 +340,7 @@ enum {
     SEARCH_CORRELATE,  /* the rotation candidates */
     SEARCH_CANDIDATES, /* each candidate: from the prediction, then coarse passes */
     SEARCH_SWEEP,      /* no candidate fits: the rotation sweep */
+    SEARCH_STATIC,     /* a best on objects: the static structure's registration */
     SEARCH_DONE
 };
 
@@ -372,6 +382,7 @@ static void attempt_begin(ego_state_t *state, const ego_params_t *params,
     const ego_scan_t *cur = &state->slot[other_slot(state->last)];
     se->start = *start;
     se->with_coarse = with_coarse;
+    se->static_only = false;
     if (with_coarse) {
         se->cp = *cp;
         ego_coarse_start(&se->coarse, last, cur, se->main_direction, start, &se->cp);
@@ -409,6 +420,9 @@ static bool attempt_run(ego_state_t *state, const ego_params_t *params)
         if (se->cursor == 0u) {
             ego_track_start(&state->tracking, last, cur, se->main_direction, &se->start, false,
                             &params->track);
+            if (se->static_only) {
+                ego_track_static_only(&state->tracking);
+            }
             se->cursor = 1u;
         }
         if (!ego_track_step(&state->tracking, &state->work)) {
@@ -860,7 +874,13 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 if (se->light || se->have_prior || params->sweep_steps == 0u || se->sweeps >= 2u ||
                     !afford || good_enough(params, se->best_status, &se->best, false) ||
                     fits_some(params, se)) {
-                    se->stage = SEARCH_DONE;
+                    se->stage = SEARCH_STATIC;
+                    if (se->best_status == EGO_ITCP_OK && rests_on_objects(&se->best)) {
+                        attempt_begin(state, params, &se->best.pose, false, NULL);
+                        se->static_only = true;
+                    } else {
+                        se->step = ATTEMPT_DONE;
+                    }
                     break;
                 }
                 se->sweep_mark = state->work.used;
@@ -884,6 +904,16 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 se->correlation[se->n] = 0;
             }
             break; /* the other half, or done */
+        case SEARCH_STATIC:
+            if (!attempt_run(state, params)) {
+                return false;
+            }
+            if (se->static_only && statically_measured(params, se->attempt_status, &se->attempt)) {
+                se->best = se->attempt;
+                se->best_static = true;
+            }
+            se->stage = SEARCH_DONE;
+            break;
         default:
             return true;
         }
@@ -1288,6 +1318,7 @@ static void finish_search(ego_state_t *state, const ego_params_t *params, bool r
         out->flags |= EGO_FLAG_RECOVERED;
     }
     state->bridge = recovered && matched;
+    state->static_next = matched && se->best_static;
     state->before = state->motion;
     state->before_dt_us = motion_known(state, se->dt_us) ? state->motion_dt_us : 0u;
     out->points = state->slot[other_slot(state->last)].count;
@@ -1536,7 +1567,17 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     STAGE(EGO_STAGE_REGISTER);
     ego_track_start(&state->tracking, last, &state->slot[cur], main_direction, start, true,
                     &params->track);
-    if (kind == START_NARROW) {
+    /* After a motion that rested on objects its prediction may be the
+     * objects' (behind a platoon, standing still): the static structure's
+     * own registration, from the whole reach. After one the static
+     * structure measured, the same, from the narrow reach. */
+    const bool after_objects = state->on_objects && !state->static_next;
+    const bool static_run = state->static_next || state->on_objects;
+    state->static_next = false;
+    if (static_run) {
+        ego_track_static_only(&state->tracking);
+    }
+    if (kind == START_NARROW && !after_objects) {
         ego_track_narrow(&state->tracking,
                          (dt_us <= CLOSE_SCANS_US) ? CLOSE_REACH : NARROW_RADIUS);
     } else if (kind == START_PRIOR) {
@@ -1561,6 +1602,12 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
+    if (static_run) {
+        state->static_next = statically_measured(params, st, &r);
+        if (after_objects && !state->static_next && r.weak.kind == EGO_WEAK_NONE) {
+            r.weak.kind = EGO_WEAK_OBJECTS; /* still unmeasured without them */
+        }
+    }
     /* Two starts of the scan that converge to one pose, each fitting
      * loosely, agree: the light search's rule for its coarse passes (the
      * second may be cut by the budget on its way back). */

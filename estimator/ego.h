@@ -202,6 +202,8 @@ typedef struct {
     ego_pose_t start;        /* of the attempt */
     ego_coarse_params_t cp;  /* its coarse search, if any */
     bool with_coarse;
+    bool static_only;        /* the attempt leaves the points on objects out */
+    bool best_static;        /* the best is such an attempt's */
     ego_itcp_status_t attempt_status;
     ego_itcp_result_t attempt;
     ego_itcp_status_t candidate_status;
@@ -262,6 +264,8 @@ typedef struct {
                                 prediction's): tracking holds it weak (ego_track.h) */
     bool on_objects;         /* the last measured motion rested on objects: tracking
                                 holds the test's share doubled (ego_track.h) */
+    bool static_next;        /* the last answer was the static structure's own (the
+                                points on objects left out): so is the next tracking */
     bool have_reference;     /* a measured line within the last second */
     bool suspect;            /* the last measured motion was beyond the dynamics
                                 check's reach (EGO_FLAG_SUSPECT until one is back) */

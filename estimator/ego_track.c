@@ -310,6 +310,9 @@ EGO_NOINLINE static void match_point(ego_track_run_t *run, uint16_t i, point_wor
 {
     const ego_scan_t *c = run->current;
     const ego_track_params_t *params = run->params;
+    if ((c->flags[i] & run->skip) != 0u) {
+        return; /* neither matched nor counted */
+    }
     fx_q16_16_t qx;
     fx_q16_16_t qy;
     ego_pose_apply(&run->pose, run->sn, run->cs, c->x[i], c->y[i], &qx, &qy);

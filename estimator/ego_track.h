@@ -117,6 +117,8 @@ typedef struct {
                            its share is twice the threshold (ego_track_hold_weak) */
     bool objects_held;  /* the last motion rested on objects: its test's share is
                            doubled (ego_track_hold_objects) */
+    uint8_t skip;       /* current points with these flags are left out:
+                           EGO_POINT_OBJECT (ego_track_static_only) or none */
     ego_track_sums_t group[2];
     int32_t object_info[3]; /* the translation part (xx, xy, yy, Q14) of J J^T over
                                the matches of current points on objects
@@ -182,6 +184,13 @@ static inline void ego_track_hold_weak(ego_track_run_t *run)
 static inline void ego_track_hold_objects(ego_track_run_t *run)
 {
     run->objects_held = true;
+}
+
+/* The run matches only the current points that are not on objects
+ * (EGO_POINT_OBJECT): the static structure's own registration. */
+static inline void ego_track_static_only(ego_track_run_t *run)
+{
+    run->skip = EGO_POINT_OBJECT;
 }
 
 /* The result of a finished run (EGO_ITCP_ERR_FEW_MATCHES: too few

@@ -106,8 +106,13 @@ set(LMSEGO_INSNS_GATE_RELEASE_table2_361_cm 2187690000)
 # the hardest scan: platoon_181 1.09 -> 91.8 M, platoon_361 2.58 -> 112.3 M
 # (M3); stopgo_181's hardest scan a tracked one against the held scan, 0.876
 # -> 0.985 M. Gated at those plus 2 %.
-set(LMSEGO_INSNS_GATE_MINSIZEREL_platoon_181_cm 93700000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_platoon_361_cm 114500000)
+# The static structure's own registration (2026-12-05, docs/estimator.md
+# "Behind a platoon"): a line on objects no longer leads to a hold and a
+# search; the platoons' hardest scans are tracked ones, 91.8 -> 1.58 M
+# (181) and 112.3 -> 2.78 M (361) on M3, 1.59 M and 2.79 M on M4F; gated
+# at the larger plus 2 %.
+set(LMSEGO_INSNS_GATE_MINSIZEREL_platoon_181_cm 1621000)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_platoon_361_cm 2848400)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_traffic_181_cm 18623000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_traffic_361_cm 2050000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_overtake_181_cm 1198000)
@@ -125,5 +130,7 @@ set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_pedestrians_181_cm 730400)  # M3 716040
 set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_crossing_181_cm 657200)  # M3 644320
 set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_stopgo_181_cm 656800)  # M3 643920
 set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_overtake_181_cm 680800)  # M3 667440
-set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_181_cm 582700)  # M3 571280
-set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_361_cm 980400)  # M3 961200
+# The platoons' with the static structure's registration (2026-12-05): the
+# trucks are found moving now, their clusters tracked (objects up to 0.49 M).
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_181_cm 968700)  # M3 949040, M4F 949680
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_361_cm 933900)  # M3 910880, M4F 915520
