@@ -268,11 +268,13 @@ static bool rests_on_objects(const ego_itcp_result_t *r)
 
 /* Does the static structure alone measure the motion: a registration of
  * the points not on objects, converged with the accept share, no weak
- * direction, not a corridor. */
+ * direction. Then it is no corridor either, however few of its matches lie
+ * across the main direction (behind a platoon, a side street's corners:
+ * the information test says they measure the motion along the street). */
 static bool statically_measured(const ego_params_t *params, ego_itcp_status_t st,
                                 const ego_itcp_result_t *r)
 {
-    return good_enough(params, st, r, false) && r->weak.kind == EGO_WEAK_NONE && !r->aperture;
+    return good_enough(params, st, r, false) && r->weak.kind == EGO_WEAK_NONE;
 }
 
 /* Is a better than b: registered, a balanced inlier share larger by more
@@ -910,6 +912,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             }
             if (se->static_only && statically_measured(params, se->attempt_status, &se->attempt)) {
                 se->best = se->attempt;
+                se->best.aperture = false; /* (statically_measured) */
                 se->best_static = true;
             }
             se->stage = SEARCH_DONE;
@@ -1604,6 +1607,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
     if (static_run) {
         state->static_next = statically_measured(params, st, &r);
+        r.aperture = r.aperture && !state->static_next; /* (statically_measured) */
         if (after_objects && !state->static_next && r.weak.kind == EGO_WEAK_NONE) {
             r.weak.kind = EGO_WEAK_OBJECTS; /* still unmeasured without them */
         }

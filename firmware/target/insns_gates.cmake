@@ -131,6 +131,8 @@ set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_crossing_181_cm 657200)  # M3 644320
 set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_stopgo_181_cm 656800)  # M3 643920
 set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_overtake_181_cm 680800)  # M3 667440
 # The platoons' with the static structure's registration (2026-12-05): the
-# trucks are found moving now, their clusters tracked (objects up to 0.49 M).
-set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_181_cm 968700)  # M3 949040, M4F 949680
-set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_361_cm 933900)  # M3 910880, M4F 915520
+# trucks are found moving now, their clusters tracked (ego_moving_scan up to
+# 0.49 M at 181 values, 0.78 M at 361; it was 0.02 M at 361 values while the
+# lines rested on the trucks).
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_181_cm 968700)  # M3 949040, M4F 949640
+set(LMSEGO_INSNS_GATE_MINSIZEREL_objects_platoon_361_cm 1627600)  # M3 1594200, M4F 1595640
