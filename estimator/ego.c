@@ -1380,6 +1380,18 @@ static bool ample(const ego_state_t *state)
  * 1.38 mm / 0.0032 deg against 1.17 mm / 0.0030 deg now.) */
 #define TRACK_PASSES 2u
 
+/* After a tracking run the meter ended before it finished (its points
+ * dearer than the typical point, and the scan's de-skewing left too
+ * little: a mirror-timed 181-value scan of a busy street), the next
+ * TIGHT_SCANS scans (3.3 s at 75 Hz) are sized for a pass more. Measured
+ * (2026-12-05, lmsworld --timing lms, default budget, 181 values): traffic
+ * 59 -> 2 failed pairs (58 lines had been left unanswered while the
+ * search finished the cut runs), stopgo 101 -> 3, crossing 13 -> 2,
+ * pedestrians 19 -> 1; 16 scans left traffic 10; sized for three passes
+ * always, the instant streams' thinned points cost 3229 -> 3848 failed
+ * pairs over the 144-sequence sweep (unchanged with this rule). */
+#define TIGHT_SCANS 250u
+
 /* The beams with a range among every step-th: the ones that become points
  * (a beam without one is passed over at EGO_COST_BEAM_SKIPPED). */
 static uint32_t beams_with_range(const ego_range_scan_t *scan, uint32_t step)
@@ -1399,7 +1411,8 @@ static uint32_t beams_per_point(const ego_state_t *state, const ego_range_scan_t
 {
     /* The scan's bookkeeping (EGO_COST_SCAN) is paid already. */
     const uint64_t left = ego_work_left(&state->work);
-    const uint64_t per_point = prepare_cost + (uint64_t)TRACK_PASSES * EGO_TRACK_TYPICAL_POINT;
+    const uint64_t passes = TRACK_PASSES + ((state->tight > 0u) ? 1u : 0u);
+    const uint64_t per_point = prepare_cost + passes * EGO_TRACK_TYPICAL_POINT;
     const uint64_t fixed = (uint64_t)scan->count * EGO_COST_BEAM_SKIPPED;
     const uint64_t points = (left > fixed) ? (left - fixed) / per_point : 0u;
     if (points >= valid) {
@@ -1454,6 +1467,7 @@ static bool prepare(ego_state_t *state, const ego_params_t *params, const ego_ra
     uint32_t step = 1u;
     if (!plain) {
         step = beams_per_point(state, scan, valid, per_point);
+        state->tight = (state->tight > 0u) ? (uint8_t)(state->tight - 1u) : 0u;
     }
     uint8_t lead = 0u;
     if (!timed && ego_range_passes(scan) > 1u) {
@@ -1596,6 +1610,9 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
         ego_track_wary(&state->tracking);
     }
     const bool done = ego_track_step(&state->tracking, &state->work);
+    if (!done) {
+        state->tight = TIGHT_SCANS;
+    }
     STAGE(EGO_STAGE_OTHER);
     state->search.track_predicted = *predicted; /* the search is not active */
     if (!done) {

@@ -246,6 +246,8 @@ typedef struct {
     bool have_last;
     bool predictable;        /* it came out close to its own prediction */
     uint8_t misses;          /* searches in a row whose result the prediction missed */
+    uint8_t tight;           /* scans left that size tracking for a pass more: the
+                                meter cut a tracking run short (ego.c, TIGHT_SCANS) */
     bool bridge;             /* a search that took several scans just ended: the next
                                 interval is long, its prediction the search's motion */
     bool along_predicted;    /* the last motion along the main direction was the
