@@ -2077,12 +2077,16 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         const ego_pose_t *prior_from_kept = carry ? &prior_held : prior;
         /* De-skewed with the prior, else the last motion, if known over a
          * short interval (a speed at the scan's time; a keyframe's is an
-         * average over seconds). */
+         * average over seconds) and measured (one that rested on objects
+         * may be a platoon's standstill: an interlaced scan de-skewed with
+         * it is two images a pass's travel apart, and the street's own
+         * registration failed on them for 6 s at 361 values). */
         ego_skew_t skew = {{0u, 0, 0}, 0u};
         if (state->have_last && prior != NULL && dt - held_dt <= TRACK_INTERVAL_US) {
             skew.motion = *prior;
             skew.dt_us = dt - held_dt;
-        } else if (state->have_last && motion_known(state, dt) && state->motion_dt_us <= TRACK_INTERVAL_US) {
+        } else if (state->have_last && motion_known(state, dt) && state->motion_dt_us <= TRACK_INTERVAL_US &&
+                   !state->on_objects) {
             skew.motion = state->motion;
             skew.dt_us = state->motion_dt_us;
         }
