@@ -1574,6 +1574,14 @@ typedef struct {
 
 /* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
  * then goes on with it first. */
+/* Is b within reach of a in x and in y. */
+static bool reached(const ego_pose_t *a, const ego_pose_t *b, fx_q16_16_t reach)
+{
+    const int64_t dx = (int64_t)a->x - b->x;
+    const int64_t dy = (int64_t)a->y - b->y;
+    return dx <= reach && dx >= -reach && dy <= reach && dy >= -reach;
+}
+
 static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                              const ego_pose_t *start, const ego_pose_t *predicted,
                              bool have_prediction, uint32_t dt_us, start_kind_t kind,
@@ -1624,9 +1632,15 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
     if (static_run) {
         state->static_next = statically_measured(params, st, &r);
-        r.aperture = r.aperture && !state->static_next; /* (statically_measured) */
-        if (after_objects && !state->static_next && r.weak.kind == EGO_WEAK_NONE) {
-            r.weak.kind = EGO_WEAK_OBJECTS; /* still unmeasured without them */
+        if (state->static_next) {
+            r.aperture = false; /* (statically_measured) */
+        } else if (after_objects && r.weak.kind != EGO_WEAK_ROTATION) {
+            /* Still unmeasured without them: flagged on objects, with the
+             * registration's own motion, not the prediction's along a
+             * corridor (the objects' standstill again), where it stayed
+             * within tracking's reach of the prediction. */
+            r.aperture = r.aperture && !reached(&r.pose, start, params->track.radius_start);
+            r.weak.kind = EGO_WEAK_OBJECTS;
         }
     }
     /* Two starts of the scan that converge to one pose, each fitting

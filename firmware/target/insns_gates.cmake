@@ -109,10 +109,10 @@ set(LMSEGO_INSNS_GATE_RELEASE_table2_361_cm 2187690000)
 # The static structure's own registration (2026-12-05, docs/estimator.md
 # "Behind a platoon"): a line on objects no longer leads to a hold and a
 # search; the platoons' hardest scans are tracked ones, 91.8 -> 1.58 M
-# (181) and 112.3 -> 2.78 M (361) on M3, 1.59 M and 2.79 M on M4F; gated
+# (181) and 112.3 -> 2.98 M (361) on M3, 1.59 M and 2.99 M on M4F; gated
 # at the larger plus 2 %.
 set(LMSEGO_INSNS_GATE_MINSIZEREL_platoon_181_cm 1621000)
-set(LMSEGO_INSNS_GATE_MINSIZEREL_platoon_361_cm 2848400)
+set(LMSEGO_INSNS_GATE_MINSIZEREL_platoon_361_cm 3050600)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_traffic_181_cm 18623000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_traffic_361_cm 2050000)
 set(LMSEGO_INSNS_GATE_MINSIZEREL_overtake_181_cm 1198000)
