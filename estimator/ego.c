@@ -829,6 +829,14 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 se->stage_tracked = true;
                 se->main_direction = main_direction;
                 se->stage = SEARCH_DONE;
+            } else if (st == EGO_ITCP_OK && rests_on_objects(&r)) {
+                /* Pulled onto objects: the static structure's own
+                 * registration from the prediction first (SEARCH_STATIC
+                 * goes on to the search where it does not measure). */
+                se->main_direction = main_direction;
+                se->stage = SEARCH_STATIC;
+                attempt_begin(state, params, &se->track_predicted, false, NULL);
+                se->static_only = true;
             } else {
                 se->stage = SEARCH_REFINE;
             }
@@ -912,10 +920,14 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             }
             if (se->static_only && statically_measured(params, se->attempt_status, &se->attempt)) {
                 se->best = se->attempt;
+                se->best_status = se->attempt_status;
                 se->best.aperture = false; /* (statically_measured) */
                 se->best_static = true;
             }
-            se->stage = SEARCH_DONE;
+            /* Before any candidate (from SEARCH_TRACKING), the search
+             * proper, unless the static registration answered. */
+            se->stage = (se->best_static || se->tried > 0u) ? SEARCH_DONE : SEARCH_REFINE;
+            se->cursor = 0u;
             break;
         default:
             return true;
@@ -1624,9 +1636,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
     STAGE(EGO_STAGE_OTHER);
     state->search.track_predicted = *predicted; /* the search is not active */
     if (!done) {
-        return (kind == START_TRIAL || kind == START_NARROW || kind == START_PRIOR)
-                   ? TRACK_FAILED
-                   : TRACK_UNFINISHED;
+        return (kind == START_TRIAL || kind == START_PRIOR) ? TRACK_FAILED : TRACK_UNFINISHED;
     }
     ego_itcp_result_t r;
     const ego_itcp_status_t st = ego_track_result(&state->tracking, &r);
