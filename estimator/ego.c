@@ -1401,7 +1401,7 @@ static bool ample(const ego_state_t *state)
  * search finished the cut runs), stopgo 101 -> 3, crossing 13 -> 2,
  * pedestrians 19 -> 1; 16 scans left traffic 10; sized for three passes
  * always, the instant streams' thinned points cost 3229 -> 3848 failed
- * pairs over the 144-sequence sweep (unchanged with this rule). */
+ * pairs over the 144-sequence sweep, which this rule leaves as it was. */
 #define TIGHT_SCANS 250u
 
 /* The beams with a range among every step-th: the ones that become points
@@ -1584,8 +1584,6 @@ typedef struct {
     ego_itcp_result_t r;
 } loose_fit_t;
 
-/* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
- * then goes on with it first. */
 /* Is b within reach of a in x and in y. */
 static bool reached(const ego_pose_t *a, const ego_pose_t *b, fx_q16_16_t reach)
 {
@@ -1594,6 +1592,10 @@ static bool reached(const ego_pose_t *a, const ego_pose_t *b, fx_q16_16_t reach)
     return dx <= reach && dx >= -reach && dy <= reach && dy >= -reach;
 }
 
+/* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
+ * then goes on with it first (a narrow start too: a wide one from the same
+ * prediction in its place had no budget left, and behind a platoon it slid
+ * onto the trucks when the search finished it). */
 static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uint8_t cur,
                              const ego_pose_t *start, const ego_pose_t *predicted,
                              bool have_prediction, uint32_t dt_us, start_kind_t kind,
