@@ -806,6 +806,15 @@ static bool fits_some(const ego_params_t *params, const ego_search_t *se)
            balanced_share(&se->best) >= params->accept_fraction / 3 * 2;
 }
 
+/* The static structure's own registration from start (SEARCH_STATIC). */
+static void static_attempt_begin(ego_state_t *state, const ego_params_t *params,
+                                 const ego_pose_t *start)
+{
+    attempt_begin(state, params, start, false, NULL);
+    state->search.static_only = true;
+    state->search.stage = SEARCH_STATIC;
+}
+
 /* Works on the search until it is done (true) or the meter runs dry. */
 static bool search_run(ego_state_t *state, const ego_params_t *params)
 {
@@ -834,9 +843,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                  * registration from the prediction first (SEARCH_STATIC
                  * goes on to the search where it does not measure). */
                 se->main_direction = main_direction;
-                se->stage = SEARCH_STATIC;
-                attempt_begin(state, params, &se->track_predicted, false, NULL);
-                se->static_only = true;
+                static_attempt_begin(state, params, &se->track_predicted);
             } else {
                 se->stage = SEARCH_REFINE;
             }
@@ -884,12 +891,10 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
                 if (se->light || se->have_prior || params->sweep_steps == 0u || se->sweeps >= 2u ||
                     !afford || good_enough(params, se->best_status, &se->best, false) ||
                     fits_some(params, se)) {
-                    se->stage = SEARCH_STATIC;
                     if (se->best_status == EGO_ITCP_OK && rests_on_objects(&se->best)) {
-                        attempt_begin(state, params, &se->best.pose, false, NULL);
-                        se->static_only = true;
+                        static_attempt_begin(state, params, &se->best.pose);
                     } else {
-                        se->step = ATTEMPT_DONE;
+                        se->stage = SEARCH_DONE;
                     }
                     break;
                 }
@@ -918,7 +923,7 @@ static bool search_run(ego_state_t *state, const ego_params_t *params)
             if (!attempt_run(state, params)) {
                 return false;
             }
-            if (se->static_only && statically_measured(params, se->attempt_status, &se->attempt)) {
+            if (statically_measured(params, se->attempt_status, &se->attempt)) {
                 se->best = se->attempt;
                 se->best_status = se->attempt_status;
                 se->best.aperture = false; /* (statically_measured) */
@@ -1177,10 +1182,15 @@ static bool holding(const ego_state_t *state)
     return state->have_last && state->held_time_us != state->last_time_us;
 }
 
-static bool within(const ego_pose_t *p, int64_t reach)
+/* Is p within reach of from in x and in y. */
+static bool within(const ego_pose_t *p, const ego_pose_t *from, int64_t reach)
 {
-    return p->x <= reach && p->x >= -reach && p->y <= reach && p->y >= -reach;
+    const int64_t dx = (int64_t)p->x - from->x;
+    const int64_t dy = (int64_t)p->y - from->y;
+    return dx <= reach && dx >= -reach && dy <= reach && dy >= -reach;
 }
+
+static const ego_pose_t NO_MOTION = {0u, 0, 0};
 
 /* Counts the slow lines in a row (motion from the last scan kept and its
  * prediction within HOLD_SPEED, the fit within HOLD_RESIDUAL, not
@@ -1194,8 +1204,8 @@ static void count_slow_lines(ego_state_t *state, const ego_pose_t *motion, const
 {
     const int64_t slow = (int64_t)HOLD_SPEED * (time_us - state->last_time_us) / US_PER_S;
     const bool slow_line = had_prediction && (out->flags & EGO_FLAG_SUSPECT) == 0u &&
-                           out->residual <= HOLD_RESIDUAL && within(motion, slow) &&
-                           within(predicted, slow);
+                           out->residual <= HOLD_RESIDUAL && within(motion, &NO_MOTION, slow) &&
+                           within(predicted, &NO_MOTION, slow);
     state->slow_lines = !slow_line                 ? 0u
                         : (state->slow_lines < 255u) ? (uint8_t)(state->slow_lines + 1u)
                                                      : 255u;
@@ -1210,7 +1220,7 @@ static bool holds(const ego_state_t *state, const ego_pose_t *motion, uint16_t f
     const uint64_t next_us = (uint64_t)(time_us - state->last_time_us) +
                              (time_us - state->previous_time_us); /* a scan on, as the last */
     return tracked && (flags & HOLD_ENDS) == 0u && (holding(state) || begins) &&
-           within(motion, HOLD_DISTANCE) && turn_between(motion->theta, 0u) <= (int64_t)HOLD_TURN &&
+           within(motion, &NO_MOTION, HOLD_DISTANCE) && turn_between(motion->theta, 0u) <= (int64_t)HOLD_TURN &&
            next_us <= HOLD_MAX_US;
 }
 
@@ -1584,14 +1594,6 @@ typedef struct {
     ego_itcp_result_t r;
 } loose_fit_t;
 
-/* Is b within reach of a in x and in y. */
-static bool reached(const ego_pose_t *a, const ego_pose_t *b, fx_q16_16_t reach)
-{
-    const int64_t dx = (int64_t)a->x - b->x;
-    const int64_t dy = (int64_t)a->y - b->y;
-    return dx <= reach && dx >= -reach && dy <= reach && dy >= -reach;
-}
-
 /* Tracking (ego.h step 2). Unfinished when the budget ran out: the search
  * then goes on with it first (a narrow start too: a wide one from the same
  * prediction in its place had no budget left, and behind a platoon it slid
@@ -1632,12 +1634,10 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
         ego_track_wary(&state->tracking);
     }
     const bool done = ego_track_step(&state->tracking, &state->work);
-    if (!done) {
-        state->tight = TIGHT_SCANS;
-    }
     STAGE(EGO_STAGE_OTHER);
     state->search.track_predicted = *predicted; /* the search is not active */
     if (!done) {
+        state->tight = TIGHT_SCANS;
         return (kind == START_TRIAL || kind == START_PRIOR) ? TRACK_FAILED : TRACK_UNFINISHED;
     }
     ego_itcp_result_t r;
@@ -1651,7 +1651,7 @@ static track_outcome_t track(ego_state_t *state, const ego_params_t *params, uin
              * registration's own motion, not the prediction's along a
              * corridor (the objects' standstill again), where it stayed
              * within tracking's reach of the prediction. */
-            r.aperture = r.aperture && !reached(&r.pose, start, params->track.radius_start);
+            r.aperture = r.aperture && !within(&r.pose, start, params->track.radius_start);
             r.weak.kind = EGO_WEAK_OBJECTS;
         }
     }
