@@ -11,7 +11,8 @@
  * (most such scans fail ego_range_check: EGO_ERR_SCAN), bits 6-7 the range
  * unit (1000, 10000, 250 um, or from the input). Then up to 4 scans, each:
  *   u8   count: 1 + c % 181 beams, or c == 255: EGO_MAX_BEAMS (the
- *        capacity; the ranges given repeat), c == 254: 0 beams
+ *        capacity; the ranges given repeat), c == 254: 0 beams, c == 253:
+ *        the previous scan again (below)
  *   u8   options: bit 0 ego_reset before it; bits 1-7 the sweep, in
  *        128ths of a turn (1 + v), spread evenly over the beams
  *   u32  time step in us (any: jumps, 0, wrap-around)
@@ -20,6 +21,16 @@
  *   with bit 1: 12 bytes of prior (theta u32; x, y i32 cut to +-8 m)
  *   with bit 3: u8 passes, u16 pass_us, u16 beam_ns
  *   with bit 5: u16 count, u32 unit, u64 first bearing, u64 step (raw)
+ * A scan again (c == 253) has the previous scan's beams and ranges, read
+ * as count, options and step, then instead of the first bearing an i16
+ * turn (2^-16 turns added to the previous first bearing: the vehicle
+ * turning on the spot) and an i16 added to every range (0 stays 0, within
+ * 1..65535), then the prior, timing and raw fields as any scan; none before
+ * it: 0 beams. Such scans go on after the fourth, up to 40 in all (any
+ * other count byte there ends the input), so that a few bytes make the
+ * long sequences the hold (after 8 slow lines) and a search's give-up
+ * (after 30 scans, max_search_scans) need; random inputs still end after
+ * four scans.
  * A missing byte reads as 0. At most 181 values per scan are read, so an
  * input stays under 1.6 kB and a run stays fast.
  *
@@ -64,7 +75,9 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 #define MAX_SCANS 4u
+#define MAX_SEQUENCE 40u /* with scans again after the fourth */
 #define MAX_GIVEN 181u
+#define AGAIN 253u
 /* Prior translations are cut to +-8 m (Q16.16). */
 #define PRIOR_LIMIT (8 * 65536)
 /* ego.c: the last motion scaled to an interval at most this many times. */
@@ -181,12 +194,27 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     uint32_t time_us = 0u;
     int64_t far_um = 0; /* the farthest reading from the vehicle's origin */
-    for (unsigned s = 0u; s < MAX_SCANS && in.pos < in.size; s++) {
+    /* The previous scan, for a scan again (c == AGAIN). */
+    static uint16_t last_range[EGO_MAX_BEAMS];
+    uint16_t last_count = 0u;
+    uint32_t last_first = 0u;
+    for (unsigned s = 0u; s < MAX_SEQUENCE && in.pos < in.size; s++) {
         const uint8_t c = (uint8_t)fuzz_take(&in, 1u);
+        const bool again = c == AGAIN;
+        if (s >= MAX_SCANS && !again) {
+            break;
+        }
         const uint8_t options = (uint8_t)fuzz_take(&in, 1u);
         const uint32_t step = fuzz_take(&in, 4u);
         time_us += step;
-        const uint32_t first = fuzz_take(&in, 4u);
+        uint32_t first = 0u;
+        int32_t delta = 0;
+        if (again) {
+            first = last_first + (uint32_t)((int32_t)(int16_t)fuzz_take(&in, 2u) * 65536);
+            delta = (int16_t)fuzz_take(&in, 2u);
+        } else {
+            first = fuzz_take(&in, 4u);
+        }
         uint16_t count = (uint16_t)(1u + c % MAX_GIVEN);
         uint16_t given = count;
         if (c == 255u) {
@@ -195,6 +223,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         } else if (c == 254u) {
             count = 0u;
             given = 0u;
+        } else if (again) {
+            count = last_count;
+            given = last_count;
         }
         /* Arrays of exactly count elements on the heap: ASan reports a read
          * past the scan's last beam (a static array of the capacity would
@@ -204,12 +235,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FUZZ_CHECK(range != NULL && table != NULL);
         uint16_t largest = 0u;
         for (uint16_t k = 0u; k < given; k++) {
-            range[k] = (uint16_t)fuzz_take(&in, 2u);
+            if (again) {
+                const int32_t r = last_range[k] + delta;
+                range[k] = (last_range[k] == 0u) ? 0u
+                           : (r < 1)             ? 1u
+                           : (r > 65535)         ? 65535u
+                                                 : (uint16_t)r;
+            } else {
+                range[k] = (uint16_t)fuzz_take(&in, 2u);
+            }
             largest = (range[k] > largest) ? range[k] : largest;
         }
         for (uint16_t k = given; k < count; k++) {
             range[k] = range[k % given];
         }
+        memcpy(last_range, range, count * sizeof *range);
+        last_count = count;
+        last_first = first;
         ego_range_scan_t scan;
         memset(&scan, 0, sizeof scan);
         scan.count = count;
