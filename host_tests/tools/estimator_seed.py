@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """estimator_seed.py - one fuzz_estimator input (host_tests/fuzz/fuzz_estimator.c
-describes the format) from the decoded scans of a recording.
+describes the format), or with --itcp one fuzz_itcp input (fuzz_itcp.c),
+from the decoded scans of a recording.
 
     lmsego scans FILE | estimator_seed.py [options] OUT
 
@@ -8,7 +9,9 @@ Reads `lmsego scans` lines (index unit_mm n v1..vn, millimetres, negative:
 a special value) and writes OUT: the setup byte, then FULL scans from FIRST
 on, each with every EVERY-th value (a 180-degree scan keeps its span when
 EVERY divides n - 1), then AGAIN scans again of the last one, each turned
-TURN 2^-16 turns and its ranges moved DELTA units. Ranges are written in the
+TURN 2^-16 turns and its ranges moved DELTA units. With --itcp: the scans
+FIRST and FIRST + 1 (--full 2), from the zero pose, ITCP's defaults, then
+PROBES probes along the scan's middle beam. Ranges are written in the
 unit the setup names (bits 6-7: 0 mm, 1 cm, 2 quarter mm); special values
 and ranges past 16 bits become 0 (no range). host_tests/fuzz/README.md
 lists the seeds made with it.
@@ -33,11 +36,15 @@ def main():
     ap.add_argument("--again", type=int, default=0, help="scans again after the last, 0..36")
     ap.add_argument("--turn", type=int, default=0, help="each scan again turned, 2^-16 turns")
     ap.add_argument("--delta", type=int, default=0, help="each scan again: ranges + DELTA units")
+    ap.add_argument("--itcp", action="store_true", help="a fuzz_itcp input (setup bits 5-6: unit)")
+    ap.add_argument("--probes", type=int, default=8, help="--itcp: probes, 0..8")
     ap.add_argument("--timing", default=None,
                     help="PASSES,PASS_US,BEAM_NS of every scan (setup bit 3)")
     args = ap.parse_args()
     if not 1 <= args.full <= 4 or not 0 <= args.again <= 36 or args.every < 1:
         ap.error("--full 1..4, --again 0..36, --every >= 1")
+    if args.itcp:
+        return write_itcp(args, ap)
     if args.setup & 0x22:
         ap.error("a prior (bit 1) or raw fields (bit 5) are not written by this script")
     unit_pick = (args.setup >> 6) & 3
@@ -80,6 +87,51 @@ def main():
     with open(args.out, "wb") as f:
         f.write(out)
     print(f"{args.out}: {len(out)} bytes, {args.full} + {args.again} scans of {count} values")
+
+
+def scan_bytes(values, unit_um, span_deg, count_byte_of):
+    """One scan's bytes as both targets read it: count, sweep (the target's
+    own units via count_byte_of), first bearing, ranges."""
+    out = bytearray(count_byte_of(len(values), span_deg))
+    out += struct.pack("<I", (-round(span_deg / 2 / 360 * 2**32)) % 2**32)
+    for v in values:
+        r = round(v * 1000 / unit_um) if v > 0 else 0
+        out += struct.pack("<H", r if r <= 65535 else 0)
+    return out
+
+
+def write_itcp(args, ap):
+    if args.setup & 0x98:
+        ap.error("--itcp: setup bits 3, 4 and 7 are not written by this script")
+    unit_pick = (args.setup >> 5) & 3
+    if unit_pick == 3:
+        ap.error("--itcp: setup bits 5-6: 0, 1 or 2")
+    unit_um = UNIT_UM[unit_pick]
+    scans = {}
+    for line in sys.stdin:
+        f = line.split()
+        if len(f) >= 3:
+            scans[int(f[0])] = [int(v) for v in f[3:]]
+    out = bytearray([args.setup])
+    out += struct.pack("<IIiiH", 0, 0, 0, 0, 0)  # main direction, pose, meter: least
+    for i in (args.first, args.first + 1):
+        if i not in scans:
+            sys.exit(f"estimator_seed.py: no scan {i} in the input")
+        values = scans[i][::args.every]
+        if len(values) > 181:
+            sys.exit(f"estimator_seed.py: {len(values)} values: at most 181 are read")
+        # fuzz_itcp: sweep 1 + v 256ths of a turn.
+        out += scan_bytes(values, unit_um, args.span_deg,
+                          lambda n, span: [n - 1, round(span / 360 * 256) - 1])
+    out += struct.pack("<HH", 300, 500)  # probes' radius and margin, mm
+    middle = scans[args.first][::args.every]
+    r_mm = max(v for v in middle if v > 0)
+    for k in range(args.probes):
+        # Along the x axis (the middle beam), from near to beyond the far return.
+        out += struct.pack("<hh", round(r_mm / 10 * (k + 1) / args.probes * 1.2), (k - 4) * 5)
+    with open(args.out, "wb") as f:
+        f.write(out)
+    print(f"{args.out}: {len(out)} bytes, two scans of {len(middle)} values, {args.probes} probes")
 
 
 if __name__ == "__main__":
