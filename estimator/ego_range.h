@@ -14,8 +14,11 @@
  * 2^64 is one turn; the bearing is rounded to a 32-bit binary angle, so a
  * step that is not a whole binary angle, 0.5 deg say, does not drift); or
  * per beam, bearing[k] (a sensor with an angle table). They increase along
- * the scan, each step in (0, half a turn), at most one turn in all: a full
- * 360-degree sweep is fine.
+ * the scan, each step in (0, half a turn), and the last beam, as a 32-bit
+ * binary angle, at most EGO_MAX_SWEEP after the first: a 360-degree
+ * scanner's 720 beams 0.5 deg apart are fine, a scan whose last beam
+ * repeats the first's direction is not (its middle bearing, which every
+ * search through the scan order measures from, would be that direction).
  *
  * Beam times (for de-skewing under motion; all zero: measured at once). A
  * rotating sensor measures its beams beam_ns apart; one that interlaces
@@ -126,11 +129,22 @@ static inline bool ego_range_times_ok(const ego_range_scan_t *scan)
     return span <= EGO_MAX_SCAN_SPAN_NS;
 }
 
+/* The widest scan, first beam to last, in 32-bit binary-angle units: a
+ * turn less two, so that every beam lies strictly within half a turn of
+ * the middle one (the searches through the scan order compare int32
+ * bearings relative to it). Found by fuzz_itcp (docs/robustness.md, E4):
+ * with uniform steps of a whole turn in all the last beam rounded onto the
+ * first, and the bearing searches placed points by where they started. */
+#define EGO_MAX_SWEEP 0xFFFFFFFEu
+
 /* True when the scan is usable: arrays given, count within the capacity,
  * a range unit in 1 um .. 0.5 m (the largest range, 65535 units, then
  * fits Q16.16 metres), the origin within EGO_MAX_ORIGIN, beam times within
  * ego_range_times_ok, every step between neighbouring bearings in (0, half
- * a turn), at most one turn in all. One pass over the bearings of a table. */
+ * a turn), the last beam at most EGO_MAX_SWEEP after the first (uniform
+ * steps: steps * bearing_step at most (EGO_MAX_SWEEP - 1) * 2^32, which
+ * ego_range_bearing's rounding keeps within it). One pass over the
+ * bearings of a table. */
 bool ego_range_check(const ego_range_scan_t *scan); /* in ego_scan.c */
 
 #endif /* EGO_RANGE_H */

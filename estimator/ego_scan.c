@@ -245,9 +245,11 @@ bool ego_range_check(const ego_range_scan_t *scan)
     const uint16_t steps = (scan->count > 0u) ? (uint16_t)(scan->count - 1u) : 0u;
     if (scan->bearing == NULL) {
         const uint64_t half = (uint64_t)1 << 63;
-        /* steps * step <= one turn (2^64), without overflow. */
+        /* steps * step <= (EGO_MAX_SWEEP - 1) 2^32, without overflow: rounded
+         * (ego_range_bearing), the last beam lies at most one unit further. */
+        const uint64_t widest = (uint64_t)(EGO_MAX_SWEEP - 1u) << 32;
         return scan->bearing_step != 0u && scan->bearing_step < half &&
-               (steps == 0u || scan->bearing_step <= UINT64_MAX / steps);
+               (steps == 0u || scan->bearing_step <= widest / steps);
     }
     uint64_t sweep = 0u;
     for (uint16_t k = 1u; k < scan->count; k++) {
@@ -257,7 +259,7 @@ bool ego_range_check(const ego_range_scan_t *scan)
         }
         sweep += turn;
     }
-    return sweep <= 0xFFFFFFFFu;
+    return sweep <= EGO_MAX_SWEEP;
 }
 
 /* The skew's motion is within EGO_MAX_SPEED over its interval (in whole

@@ -192,9 +192,27 @@ static void test_ego_range_malformed_scans_are_refused(void)
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
     bad.bearing_step = UINT64_MAX / 719u + 1u; /* 719 steps: more than one turn */
     TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
-    bad.bearing_step = UINT64_MAX / 719u; /* just one turn: fine */
-    TEST_ASSERT_TRUE(ego_range_check(&bad));
+    bad.bearing_step = UINT64_MAX / 719u; /* one turn: the last beam rounds onto the first */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    const uint64_t widest = ((uint64_t)(EGO_MAX_SWEEP - 1u) << 32) / 719u;
+    bad.bearing_step = widest + 1u; /* a unit of the last place past EGO_MAX_SWEEP */
+    TEST_ASSERT_EQUAL_INT(EGO_ERR_SCAN, ego_process(&g_state, &g_params, &bad, 26667u, &out));
+    bad.bearing_step = widest; /* the widest: its last beam within EGO_MAX_SWEEP, wherever it starts */
+    for (uint32_t first = 0u; first < 4u; first++) {
+        bad.first_bearing = ((uint64_t)first << 62) + 0x80000000u * first; /* fractions too */
+        TEST_ASSERT_TRUE(ego_range_check(&bad));
+        const uint32_t sweep = ego_range_bearing(&bad, 719u) - ego_range_bearing(&bad, 0u);
+        TEST_ASSERT_TRUE(sweep >= EGO_MAX_SWEEP - 2u && sweep <= EGO_MAX_SWEEP);
+    }
     static fx_bam32_t table[BEAMS];
+    for (uint16_t k = 0u; k < BEAMS; k++) { /* a table of the widest sweep: fine */
+        table[k] = 0x10000000u + (fx_bam32_t)((uint64_t)EGO_MAX_SWEEP * k / 719u);
+    }
+    bad = g_scan;
+    bad.bearing = table;
+    TEST_ASSERT_TRUE(ego_range_check(&bad));
+    table[719]++; /* a unit wider: its last beam within two units of its first */
+    TEST_ASSERT_FALSE(ego_range_check(&bad));
     memcpy(table, g_bearing, sizeof table);
     table[300] = table[299] - 1u; /* goes back */
     bad = g_scan;

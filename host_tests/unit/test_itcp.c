@@ -343,6 +343,65 @@ static void test_itcp_probe_is_nearest_then_free_space(void)
     TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SEEN_THROUGH] > 0u);
 }
 
+/* The widest scan ego_range_check accepts (EGO_MAX_SWEEP, uniform steps,
+ * from several first bearings): the prober, which starts each bearing
+ * search where the last ended, still agrees with nearest and seen_through
+ * asked afresh. A scan of a whole turn, whose last beam rounded onto the
+ * first, broke this (fuzz_itcp, E4): its middle bearing was the first
+ * beam's, and the searches placed a point by where they started. */
+static void test_itcp_probe_agrees_on_the_widest_scan(void)
+{
+    enum { BEAMS = 720 };
+    static uint16_t range[BEAMS];
+    for (unsigned k = 0u; k < BEAMS; k++) {
+        /* A room 3-5 m around, with a gap: mm. */
+        range[k] = (k % 97u == 13u) ? 0u : (uint16_t)(4000.0 + 1000.0 * sin(k * 0.05));
+    }
+    ego_range_scan_t in;
+    memset(&in, 0, sizeof in);
+    in.count = BEAMS;
+    in.range = range;
+    in.range_unit_um = 1000u;
+    in.bearing_step = ((uint64_t)(EGO_MAX_SWEEP - 1u) << 32) / (BEAMS - 1u);
+    ego_prep_params_t prep;
+    ego_prep_defaults(&prep);
+    ego_tfit_params_t fit;
+    ego_tfit_defaults(&fit);
+    uint32_t rng = 5u;
+    unsigned seen[3] = {0u, 0u, 0u};
+    const fx_q16_16_t radius = FX_Q16_16_C(0.3);
+    const fx_q16_16_t margin = FX_Q16_16_C(0.2);
+    for (uint32_t first = 0u; first < 8u; first++) {
+        in.first_bearing = ((uint64_t)first << 61) + 0x40000000u * first;
+        TEST_ASSERT_TRUE(ego_range_check(&in));
+        TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&in, &prep, &g_last));
+        ego_tfit_fit_scan(&g_last, &fit);
+        ego_itcp_prober_t prober;
+        ego_itcp_prober_init(&prober, &g_last, radius, margin);
+        for (unsigned trial = 0u; trial < 400u; trial++) {
+            const fx_q16_16_t qx = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
+            const fx_q16_16_t qy = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
+            uint64_t d_probe = 0u;
+            uint64_t d_nearest = 0u;
+            const ego_itcp_probe_t p = ego_itcp_probe(&prober, qx, qy, &d_probe);
+            const bool near = ego_itcp_nearest(&g_last, qx, qy, radius, &d_nearest) &&
+                              d_nearest < (uint64_t)((int64_t)radius * radius);
+            const ego_itcp_probe_t expected =
+                near ? EGO_ITCP_PROBE_SURFACE
+                     : (ego_itcp_seen_through(&g_last, qx, qy, margin) ? EGO_ITCP_PROBE_SEEN_THROUGH
+                                                                       : EGO_ITCP_PROBE_NOTHING);
+            TEST_ASSERT_EQUAL_INT(expected, p);
+            if (near) {
+                TEST_ASSERT_TRUE(d_nearest == d_probe);
+            }
+            seen[p]++;
+        }
+    }
+    TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_NOTHING] > 0u);
+    TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SURFACE] > 0u);
+    TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SEEN_THROUGH] > 0u);
+}
+
 /* The first run's work cap: at most max_points of count, spread over the
  * whole scan. */
 static void test_itcp_sample_stride_caps_the_points(void)
@@ -594,6 +653,7 @@ int main(void)
     RUN_TEST(test_itcp_nearest_matches_brute_force);
     RUN_TEST(test_itcp_seen_through_is_free_space);
     RUN_TEST(test_itcp_probe_is_nearest_then_free_space);
+    RUN_TEST(test_itcp_probe_agrees_on_the_widest_scan);
     RUN_TEST(test_itcp_run_in_small_pieces_is_register);
     RUN_TEST(test_itcp_run_too_small_a_meter_makes_no_progress);
     RUN_TEST(test_itcp_max_points_thins_the_first_run_only);
