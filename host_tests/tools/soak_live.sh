@@ -23,7 +23,9 @@
 # Exit status 0 when no line is lost (lines = N - 1, no missing number, no
 # gap, at most 2 scans sent but not received: in flight at the stop, queue
 # dropped=0), 1 otherwise. SOAK_LIVE_SUMMARY_ONLY=1 only writes the summary
-# of the run already in OUT_DIR.
+# of the run already in OUT_DIR. SOAK_LIVE_MOVING=1 runs `run --moving`:
+# each line is followed by its scan's moving objects ("o," lines, counted
+# apart in the summary), the loop's objects detector in the live path too.
 set -eu
 
 if [ $# -lt 2 ] || [ $# -gt 3 ]; then
@@ -55,7 +57,13 @@ else
         sleep 0.1
         i=$((i + 1))
     done
-    "$lmsego" run --port "$link" --variant 180,1 --scans "$scans" >"$out/run.csv" 2>"$out/run.err" &
+    moving=
+    if [ "${SOAK_LIVE_MOVING:-0}" = 1 ]; then
+        moving=--moving
+    fi
+    # $moving unquoted: empty or one word.
+    # shellcheck disable=SC2086
+    "$lmsego" run --port "$link" --variant 180,1 --scans "$scans" $moving >"$out/run.csv" 2>"$out/run.err" &
     run_pid=$!
 
     # elapsed_s rss_kb cpu_ticks: fields 14 and 15 of /proc/PID/stat (after
@@ -92,6 +100,7 @@ fi
 awk -F, -v n="$((scans - 1))" -v ticks="$ticks" -v status="$run_status" \
     -v samples="$out/samples.txt" -v runerr="$out/run.err" -v simerr="$out/sim.err" '
     NR == 1 { next }
+    $1 == "o" { objects++; next }
     {
         lines++
         if ($1 != prev + 1) missing += $1 - prev - 1
@@ -123,6 +132,7 @@ awk -F, -v n="$((scans - 1))" -v ticks="$ticks" -v status="$run_status" \
         printf "lines expected %d received %d missing_numbers %d time_gaps %d\n", n, lines, missing + (n - prev), gaps + 0
         printf "latency_ms max %.1f lines_over_100ms %d\n", lmax, late + 0
         printf "restarts (lines flagged FIRST) %d\n", restarts + 0
+        printf "object lines (o,) %d\n", objects + 0
         printf "run exit status %d\n", status
         while ((getline l < runerr) > 0) if (l ~ /scans=|dropped=/) print "run: " l
         while ((getline l < simerr) > 0) {
