@@ -226,6 +226,19 @@ static beam_motion_t motion_at(const ego_skew_t *skew, int64_t tau_ns)
     return m;
 }
 
+/* steps * step <= (EGO_MAX_SWEEP - 1) 2^32: rounded (ego_range_bearing),
+ * the last of steps + 1 uniform beams then lies at most EGO_MAX_SWEEP after
+ * the first. With step < 2^63 and steps < 2^16 the product's part above
+ * 32 bits, q, is below 2^48: two 32 x 32-bit products, no 64-bit division
+ * (a soft division on the Cortex-M3, 160 instructions a scan more). */
+static bool uniform_within_sweep(uint64_t step, uint16_t steps)
+{
+    const uint64_t low = (step & 0xFFFFFFFFu) * steps;
+    const uint64_t q = (step >> 32) * steps + (low >> 32);
+    const uint64_t widest = EGO_MAX_SWEEP - 1u; /* in units of 2^32 */
+    return q < widest || (q == widest && (uint32_t)low == 0u);
+}
+
 /* |v| <= EGO_MAX_ORIGIN: v + EGO_MAX_ORIGIN in [0, 2 EGO_MAX_ORIGIN], in
  * unsigned arithmetic (wrapping, defined) so one comparison does. */
 static bool origin_ok(fx_q16_16_t v)
@@ -245,11 +258,8 @@ bool ego_range_check(const ego_range_scan_t *scan)
     const uint16_t steps = (scan->count > 0u) ? (uint16_t)(scan->count - 1u) : 0u;
     if (scan->bearing == NULL) {
         const uint64_t half = (uint64_t)1 << 63;
-        /* steps * step <= (EGO_MAX_SWEEP - 1) 2^32, without overflow: rounded
-         * (ego_range_bearing), the last beam lies at most one unit further. */
-        const uint64_t widest = (uint64_t)(EGO_MAX_SWEEP - 1u) << 32;
         return scan->bearing_step != 0u && scan->bearing_step < half &&
-               (steps == 0u || scan->bearing_step <= widest / steps);
+               uniform_within_sweep(scan->bearing_step, steps);
     }
     uint64_t sweep = 0u;
     for (uint16_t k = 1u; k < scan->count; k++) {

@@ -10,6 +10,7 @@
 #include "ego.h"
 #include "ego_range.h"
 #include "fx_host.h"
+#include "lms_test_util.h"
 #include "unity.h"
 #include "world_map.h"
 #include "world_scenario.h"
@@ -203,6 +204,20 @@ static void test_ego_range_malformed_scans_are_refused(void)
         TEST_ASSERT_TRUE(ego_range_check(&bad));
         const uint32_t sweep = ego_range_bearing(&bad, 719u) - ego_range_bearing(&bad, 0u);
         TEST_ASSERT_TRUE(sweep >= EGO_MAX_SWEEP - 2u && sweep <= EGO_MAX_SWEEP);
+    }
+    /* Uniform steps near the widest, against the division that states the
+     * rule (ego_scan.c checks it without one). */
+    uint32_t rng = 7u;
+    for (unsigned trial = 0u; trial < 20000u; trial++) {
+        bad = g_scan;
+        bad.count = (uint16_t)(2u + tu_rand_range(&rng, 0u, 398u));
+        const uint64_t limit = ((uint64_t)(EGO_MAX_SWEEP - 1u) << 32) / (bad.count - 1u);
+        const uint64_t off = tu_rand_range(&rng, 0u, 64u);
+        bad.bearing_step = (trial % 2u == 0u) ? limit + 32u - off
+                                              : ((uint64_t)tu_rand(&rng) << 32 | tu_rand(&rng));
+        const bool expected = bad.bearing_step != 0u && bad.bearing_step < ((uint64_t)1 << 63) &&
+                              bad.bearing_step <= limit;
+        TEST_ASSERT_EQUAL_INT(expected, ego_range_check(&bad));
     }
     static fx_bam32_t table[BEAMS];
     for (uint16_t k = 0u; k < BEAMS; k++) { /* a table of the widest sweep: fine */
