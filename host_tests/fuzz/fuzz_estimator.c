@@ -4,12 +4,17 @@
  * unbounded defaults (ego_defaults) and the live budget
  * (ego_budget_defaults).
  *
- * Input: byte 0 is the setup: bit 0 the budget defaults (else unbounded),
+ * Input: byte 0 is the setup: bit 0 a budget (else unbounded),
  * bit 1 a prior with every scan, bit 2 a bearing table (else uniform
  * bearings), bit 3 interlaced passes and beam times, bit 4 a sensor
  * origin off the vehicle's (+-128 m), bit 5 the raw scan fields from the input
  * (most such scans fail ego_range_check: EGO_ERR_SCAN), bits 6-7 the range
- * unit (1000, 10000, 250 um, or from the input). Then up to 4 scans, each:
+ * unit (1000, 10000, 250 um, or from the input). With bit 4 the origin
+ * (two u16), then with bit 0 the budget: u8 b, 0 for the live defaults
+ * (ego_budget_defaults), else work_per_s and work_min at b / 64 of theirs
+ * (1/64 .. 4 times: a slower target's budget, where the meter cuts every
+ * stage), and u8 m, max_search_scans (0: the default, 30). Then up to 4
+ * scans, each:
  *   u8   count: 1 + c % 181 beams, or c == 255: EGO_MAX_BEAMS (the
  *        capacity; the ranges given repeat), c == 254: 0 beams, c == 253:
  *        the previous scan again (below)
@@ -175,9 +180,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const unsigned unit_pick = (setup >> 6) & 3u;
     /* ego_budget_defaults sets the budget on top of ego_defaults. */
     ego_defaults(&params);
-    if (budget) {
-        ego_budget_defaults(&params);
-    }
     /* Every input starts from a state that never ran (static storage is
      * zero, then ego_reset), so that an input gives the same outputs
      * whatever ran before it. */
@@ -191,6 +193,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
          * and up to it, where the points' arithmetic must still hold. */
         ox = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 256;
         oy = (fx_q16_16_t)((int32_t)fuzz_take(&in, 2u) - 32768) * 256;
+    }
+    if (budget) {
+        ego_budget_defaults(&params);
+        const uint32_t b = fuzz_take(&in, 1u);
+        const uint32_t m = fuzz_take(&in, 1u);
+        if (b != 0u) {
+            params.work_per_s = (uint32_t)((uint64_t)params.work_per_s * b / 64u);
+            params.work_min = (uint32_t)((uint64_t)params.work_min * b / 64u);
+        }
+        if (m != 0u) {
+            params.max_search_scans = (uint8_t)m;
+        }
     }
     uint32_t time_us = 0u;
     int64_t far_um = 0; /* the farthest reading from the vehicle's origin */

@@ -36,6 +36,10 @@ def main():
     ap.add_argument("--again", type=int, default=0, help="scans again after the last, 0..36")
     ap.add_argument("--turn", type=int, default=0, help="each scan again turned, 2^-16 turns")
     ap.add_argument("--delta", type=int, default=0, help="each scan again: ranges + DELTA units")
+    ap.add_argument("--budget", type=int, default=0,
+                    help="setup bit 0: the budget in 64ths of the live one, 1..255 (0: it)")
+    ap.add_argument("--max-search", type=int, default=0,
+                    help="setup bit 0: max_search_scans, 1..255 (0: the default)")
     ap.add_argument("--itcp", action="store_true", help="a fuzz_itcp input (setup bits 5-6: unit)")
     ap.add_argument("--probes", type=int, default=8, help="--itcp: probes, 0..8")
     ap.add_argument("--timing", default=None,
@@ -45,8 +49,8 @@ def main():
         ap.error("--full 1..4, --again 0..36, --every >= 1")
     if args.itcp:
         return write_itcp(args, ap)
-    if args.setup & 0x22:
-        ap.error("a prior (bit 1) or raw fields (bit 5) are not written by this script")
+    if args.setup & 0x32:
+        ap.error("a prior (bit 1), an origin (bit 4) or raw fields (bit 5) are not written by this script")
     unit_pick = (args.setup >> 6) & 3
     if unit_pick == 3:
         ap.error("setup bits 6-7: 0, 1 or 2 (a unit from the input is not written)")
@@ -64,6 +68,8 @@ def main():
         if len(f) >= 3:
             scans[int(f[0])] = [int(v) for v in f[3:]]
     out = bytearray([args.setup])
+    if args.setup & 1:
+        out += bytes([args.budget, args.max_search])  # 0, 0: the live defaults
     count = 0
     for i in range(args.first, args.first + args.full):
         if i not in scans:
