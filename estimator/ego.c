@@ -48,26 +48,13 @@ void ego_budget_defaults(ego_params_t *params)
     params->work_min = EGO_DEFAULT_WORK_MIN;
 }
 
+/* All of it: a field left over (the objects test's hysteresis, the tight
+ * scans, the weak direction, the dynamics check's reference) changed the
+ * lines after a reset (fuzz finding E5). 23.9 KB on the Cortex-M builds,
+ * written only on a reset. */
 void ego_reset(ego_state_t *state)
 {
-    state->have_last = false;
-    state->last = 0u;
-    state->last_time_us = 0u;
-    state->held_time_us = 0u;
-    state->slow_lines = 0u;
-    memset(&state->motion, 0, sizeof state->motion);
-    state->motion_dt_us = 0u;
-    state->predictable = false;
-    state->misses = 0u;
-    state->bridge = false;
-    state->along_predicted = false;
-    state->have_previous = false;
-    state->previous_time_us = 0u;
-    state->refined[0] = false;
-    state->refined[1] = false;
-    state->lead_100us[0] = 0u;
-    state->lead_100us[1] = 0u;
-    state->search.active = false;
+    memset(state, 0, sizeof *state);
 }
 
 /* Does the last motion say anything about an interval of dt_us: it is

@@ -305,7 +305,8 @@ typedef struct {
                                  recovering */
 } ego_output_t;
 
-/* Starts over: the next scan is a first scan. */
+/* Starts over: the next scan is a first scan, and every line from there is
+ * what a state that never ran gives (the whole state is zeroed). */
 void ego_reset(ego_state_t *state);
 
 /* The stages of ego_process, for profiling where the work goes. Built with
