@@ -23,6 +23,16 @@ import sys
 UNIT_UM = {0: 1000, 1: 10000, 2: 250}
 
 
+def read_scans():
+    """The `lmsego scans` lines on stdin: index -> values (mm, < 0 special)."""
+    scans = {}
+    for line in sys.stdin:
+        f = line.split()
+        if len(f) >= 3:
+            scans[int(f[0])] = [int(v) for v in f[3:]]
+    return scans
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("out", help="the input file to write")
@@ -62,11 +72,7 @@ def main():
         passes, pass_us, beam_ns = (int(v) for v in args.timing.split(","))
         timing = struct.pack("<BHH", passes, pass_us, beam_ns // 16)
 
-    scans = {}
-    for line in sys.stdin:
-        f = line.split()
-        if len(f) >= 3:
-            scans[int(f[0])] = [int(v) for v in f[3:]]
+    scans = read_scans()
     out = bytearray([args.setup])
     if args.setup & 1:
         out += bytes([args.budget, args.max_search])  # 0, 0: the live defaults
@@ -113,11 +119,7 @@ def write_itcp(args, ap):
     if unit_pick == 3:
         ap.error("--itcp: setup bits 5-6: 0, 1 or 2")
     unit_um = UNIT_UM[unit_pick]
-    scans = {}
-    for line in sys.stdin:
-        f = line.split()
-        if len(f) >= 3:
-            scans[int(f[0])] = [int(v) for v in f[3:]]
+    scans = read_scans()
     out = bytearray([args.setup])
     out += struct.pack("<IIiiH", 0, 0, 0, 0, 0)  # main direction, pose, meter: least
     for i in (args.first, args.first + 1):

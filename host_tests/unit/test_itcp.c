@@ -310,18 +310,17 @@ static void test_itcp_seen_through_is_free_space(void)
 }
 
 /* The coarse search's combined query gives what the two queries give. */
-static void test_itcp_probe_is_nearest_then_free_space(void)
+/* Probes g_last at trials random points in x0 .. x0 + 12 m, -6 .. 6 m with
+ * one prober, each against ego_itcp_nearest and ego_itcp_seen_through
+ * asked afresh; counts the outcomes in seen. */
+static void probes_agree(fx_q16_16_t radius, fx_q16_16_t margin, int32_t x0, unsigned trials,
+                         uint32_t *rng, unsigned seen[3])
 {
-    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
-    uint32_t rng = 11u;
-    unsigned seen[3] = {0u, 0u, 0u};
-    const fx_q16_16_t radius = FX_Q16_16_C(0.1);
-    const fx_q16_16_t margin = FX_Q16_16_C(0.2);
     ego_itcp_prober_t prober;
     ego_itcp_prober_init(&prober, &g_last, radius, margin);
-    for (unsigned trial = 0u; trial < 3000u; trial++) {
-        const fx_q16_16_t qx = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (1 << 16);
-        const fx_q16_16_t qy = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
+    for (unsigned trial = 0u; trial < trials; trial++) {
+        const fx_q16_16_t qx = (fx_q16_16_t)tu_rand_range(rng, 0u, 12u << 16) + x0 * 65536;
+        const fx_q16_16_t qy = (fx_q16_16_t)tu_rand_range(rng, 0u, 12u << 16) - (6 << 16);
         uint64_t d_probe = 0u;
         uint64_t d_nearest = 0u;
         const ego_itcp_probe_t p = ego_itcp_probe(&prober, qx, qy, &d_probe);
@@ -337,6 +336,14 @@ static void test_itcp_probe_is_nearest_then_free_space(void)
         }
         seen[p]++;
     }
+}
+
+static void test_itcp_probe_is_nearest_then_free_space(void)
+{
+    prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
+    uint32_t rng = 11u;
+    unsigned seen[3] = {0u, 0u, 0u};
+    probes_agree(FX_Q16_16_C(0.1), FX_Q16_16_C(0.2), -1, 3000u, &rng, seen);
     /* Every outcome occurred. */
     TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_NOTHING] > 0u);
     TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SURFACE] > 0u);
@@ -369,33 +376,12 @@ static void test_itcp_probe_agrees_on_the_widest_scan(void)
     ego_tfit_defaults(&fit);
     uint32_t rng = 5u;
     unsigned seen[3] = {0u, 0u, 0u};
-    const fx_q16_16_t radius = FX_Q16_16_C(0.3);
-    const fx_q16_16_t margin = FX_Q16_16_C(0.2);
     for (uint32_t first = 0u; first < 8u; first++) {
         in.first_bearing = ((uint64_t)first << 61) + 0x40000000u * first;
         TEST_ASSERT_TRUE(ego_range_check(&in));
         TEST_ASSERT_EQUAL_INT(EGO_PREP_OK, ego_scan_prepare(&in, &prep, &g_last));
         ego_tfit_fit_scan(&g_last, &fit);
-        ego_itcp_prober_t prober;
-        ego_itcp_prober_init(&prober, &g_last, radius, margin);
-        for (unsigned trial = 0u; trial < 400u; trial++) {
-            const fx_q16_16_t qx = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
-            const fx_q16_16_t qy = (fx_q16_16_t)tu_rand_range(&rng, 0u, 12u << 16) - (6 << 16);
-            uint64_t d_probe = 0u;
-            uint64_t d_nearest = 0u;
-            const ego_itcp_probe_t p = ego_itcp_probe(&prober, qx, qy, &d_probe);
-            const bool near = ego_itcp_nearest(&g_last, qx, qy, radius, &d_nearest) &&
-                              d_nearest < (uint64_t)((int64_t)radius * radius);
-            const ego_itcp_probe_t expected =
-                near ? EGO_ITCP_PROBE_SURFACE
-                     : (ego_itcp_seen_through(&g_last, qx, qy, margin) ? EGO_ITCP_PROBE_SEEN_THROUGH
-                                                                       : EGO_ITCP_PROBE_NOTHING);
-            TEST_ASSERT_EQUAL_INT(expected, p);
-            if (near) {
-                TEST_ASSERT_TRUE(d_nearest == d_probe);
-            }
-            seen[p]++;
-        }
+        probes_agree(FX_Q16_16_C(0.3), FX_Q16_16_C(0.2), -6, 400u, &rng, seen);
     }
     TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_NOTHING] > 0u);
     TEST_ASSERT_TRUE(seen[EGO_ITCP_PROBE_SURFACE] > 0u);
