@@ -78,20 +78,13 @@ def main():
         out += bytes([args.budget, args.max_search])  # 0, 0: the live defaults
     count = 0
     for i in range(args.first, args.first + args.full):
-        if i not in scans:
-            sys.exit(f"estimator_seed.py: no scan {i} in the input")
-        values = scans[i][::args.every]
+        values = scan_values(scans, i, args.every)
         count = len(values)
-        if count > 181:
-            sys.exit(f"estimator_seed.py: {count} values: at most 181 are read")
         # The sweep in 128ths of a turn (options bits 1-7 hold it - 1).
         sweep = round(args.span_deg / 360 * 128)
         options = (sweep - 1) << 1
-        first = (-round(args.span_deg / 2 / 360 * 2**32)) % 2**32
-        out += struct.pack("<BBII", count - 1, options, args.step_us, first)
-        for v in values:
-            r = round(v * 1000 / unit_um) if v > 0 else 0
-            out += struct.pack("<H", r if r <= 65535 else 0)
+        out += struct.pack("<BBII", count - 1, options, args.step_us, first_bearing(args.span_deg))
+        out += range_bytes(values, unit_um)
         out += timing
     for _ in range(args.again):
         out += struct.pack("<BBIhh", 253, options, args.step_us, args.turn, args.delta)
@@ -101,11 +94,24 @@ def main():
     print(f"{args.out}: {len(out)} bytes, {args.full} + {args.again} scans of {count} values")
 
 
-def scan_bytes(values, unit_um, span_deg, count_byte_of):
-    """One scan's bytes as both targets read it: count, sweep (the target's
-    own units via count_byte_of), first bearing, ranges."""
-    out = bytearray(count_byte_of(len(values), span_deg))
-    out += struct.pack("<I", (-round(span_deg / 2 / 360 * 2**32)) % 2**32)
+def scan_values(scans, i, every):
+    """Every every-th value of scan i, at most 181 (what the targets read)."""
+    if i not in scans:
+        sys.exit(f"estimator_seed.py: no scan {i} in the input")
+    values = scans[i][::every]
+    if len(values) > 181:
+        sys.exit(f"estimator_seed.py: {len(values)} values: at most 181 are read")
+    return values
+
+
+def first_bearing(span_deg):
+    """The first beam of a scan centred on the x axis, a 32-bit binary angle."""
+    return (-round(span_deg / 2 / 360 * 2**32)) % 2**32
+
+
+def range_bytes(values, unit_um):
+    """The ranges as u16 in the unit; special values and overflows: 0."""
+    out = bytearray()
     for v in values:
         r = round(v * 1000 / unit_um) if v > 0 else 0
         out += struct.pack("<H", r if r <= 65535 else 0)
@@ -123,14 +129,11 @@ def write_itcp(args, ap):
     out = bytearray([args.setup])
     out += struct.pack("<IIiiH", 0, 0, 0, 0, 0)  # main direction, pose, meter: least
     for i in (args.first, args.first + 1):
-        if i not in scans:
-            sys.exit(f"estimator_seed.py: no scan {i} in the input")
-        values = scans[i][::args.every]
-        if len(values) > 181:
-            sys.exit(f"estimator_seed.py: {len(values)} values: at most 181 are read")
+        values = scan_values(scans, i, args.every)
         # fuzz_itcp: sweep 1 + v 256ths of a turn.
-        out += scan_bytes(values, unit_um, args.span_deg,
-                          lambda n, span: [n - 1, round(span / 360 * 256) - 1])
+        sweep_v = round(args.span_deg / 360 * 256) - 1
+        out += struct.pack("<BBI", len(values) - 1, sweep_v, first_bearing(args.span_deg))
+        out += range_bytes(values, unit_um)
     out += struct.pack("<HH", 300, 500)  # probes' radius and margin, mm
     middle = scans[args.first][::args.every]
     r_mm = max(v for v in middle if v > 0)
