@@ -2105,7 +2105,11 @@ ego_status_t ego_process_with_prior(ego_state_t *state, const ego_params_t *para
         }
         if (!prepare(state, params, scan, &skew, cur)) {
             out->flags = EGO_FLAG_RECOVERING; /* skipped: the next motion spans it */
-        } else if (!state->have_last || dt == 0u) {
+        } else if (!state->have_last || dt == 0u || time_us == state->held_time_us) {
+            /* No interval since the last scan kept or, a scan held, since
+             * the last one processed (a repeated time stamp): no motion to
+             * measure over it (a line's velocities divided by zero: fuzz
+             * finding E6, docs/robustness.md). */
             out->points = state->slot[cur].count;
             start_over(state, cur, time_us, out);
         } else {

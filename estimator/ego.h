@@ -59,8 +59,9 @@
  *
  * Failure is reported, not hidden: too few points, no usable histogram
  * correlation or a failed registration give a flag, and the output then
- * carries the prediction instead of a jump. The first scan and a reset
- * start over: flag EGO_FLAG_FIRST, no motion. A long interval is not a
+ * carries the prediction instead of a jump. The first scan, a reset and
+ * a scan at the time of the last one start over: flag EGO_FLAG_FIRST, no
+ * motion. A long interval is not a
  * gap: it only allows more work.
  *
  * Static memory: ego_state_t holds two prepared scans, two histograms and

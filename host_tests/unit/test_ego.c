@@ -1054,6 +1054,37 @@ static void test_ego_slow_motion_with_a_prior_adds_up_through_the_holds(void)
     slow_motion_adds_up(true);
 }
 
+/* A scan at the time of the last one has no interval to measure a motion
+ * over: it starts over, also while a scan is held (standing still), where
+ * the line's velocities were divided by an interval of zero (E6); the next
+ * scan is measured from it as usual. */
+static void test_ego_repeated_time_starts_over_while_holding(void)
+{
+    ego_defaults(&g_params);
+    g_params.work_per_s = 0u;
+    ego_reset(&g_state);
+    const uint32_t period = 13333u;
+    room_lms(0.0, 0.0, 0.0);
+    ego_output_t out;
+    uint32_t t = 1000000u;
+    for (unsigned k = 0u; k < 20u; k++, t += period) {
+        TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms), t, &out));
+    }
+    t -= period;
+    TEST_ASSERT_TRUE(g_state.held_time_us != g_state.last_time_us); /* holding */
+    TEST_ASSERT_EQUAL_UINT32(t, g_state.held_time_us);
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms), t, &out));
+    TEST_ASSERT_EQUAL_HEX16(EGO_FLAG_FIRST, out.flags);
+    TEST_ASSERT_EQUAL_INT32(0, out.vx);
+    TEST_ASSERT_EQUAL_INT32(0, out.vy);
+    TEST_ASSERT_EQUAL_INT32(0, out.omega);
+    TEST_ASSERT_EQUAL_UINT32(t, g_state.last_time_us);
+    TEST_ASSERT_EQUAL_INT(EGO_OK, ego_process(&g_state, &g_params, synth_range(&g_lms), t + period, &out));
+    TEST_ASSERT_EQUAL_HEX16(0u, out.flags & (EGO_FLAG_FIRST | EGO_FLAG_PREDICTED | EGO_FLAG_RECOVERING));
+    TEST_ASSERT_EQUAL_UINT32(period, out.dt_us);
+    TEST_ASSERT_INT32_WITHIN(FX_Q16_16_C(0.002), 0, out.pose.x);
+}
+
 /* Tracking from a prediction that missed a turn of 20 deg gives up at its
  * first pass (under a quarter of its points matched), a search's
  * registration from the same start does not: its work goes on. */
@@ -1182,5 +1213,6 @@ int main(void)
     RUN_TEST(test_ego_a_jump_while_held_is_suspect);
     RUN_TEST(test_ego_slow_motion_adds_up_through_the_holds);
     RUN_TEST(test_ego_slow_motion_with_a_prior_adds_up_through_the_holds);
+    RUN_TEST(test_ego_repeated_time_starts_over_while_holding);
     return UNITY_END();
 }
