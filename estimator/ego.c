@@ -135,6 +135,8 @@ static uint32_t horizon_of(const ego_state_t *state, uint32_t dt_us)
     return (k < 1u) ? 1u : (k > MAX_HORIZON) ? MAX_HORIZON : (uint32_t)k;
 }
 
+/* out->dt_us > 0: a scan with no interval to the last one starts over
+ * (ego_process_with_prior; E6, docs/robustness.md). */
 static void set_velocities(ego_output_t *out)
 {
     const int64_t dt = out->dt_us;
