@@ -61,8 +61,7 @@
  * correlation or a failed registration give a flag, and the output then
  * carries the prediction instead of a jump. The first scan, a reset and
  * a scan at the time of the last one start over: flag EGO_FLAG_FIRST, no
- * motion. A long interval is not a
- * gap: it only allows more work.
+ * motion. A long interval is not a gap: it only allows more work.
  *
  * Static memory: ego_state_t holds two prepared scans, two histograms and
  * the search in progress; see docs/estimator.md for the figures. Not

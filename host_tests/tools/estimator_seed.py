@@ -135,7 +135,7 @@ def write_itcp(args, ap):
         out += struct.pack("<BBI", len(values) - 1, sweep_v, first_bearing(args.span_deg))
         out += range_bytes(values, unit_um)
     out += struct.pack("<HH", 300, 500)  # probes' radius and margin, mm
-    middle = scans[args.first][::args.every]
+    middle = scan_values(scans, args.first, args.every)
     r_mm = max(v for v in middle if v > 0)
     for k in range(args.probes):
         # Along the x axis (the middle beam), from near to beyond the far return.

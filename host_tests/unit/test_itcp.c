@@ -309,7 +309,6 @@ static void test_itcp_seen_through_is_free_space(void)
     TEST_ASSERT_FALSE(ego_itcp_seen_through(&g_last, FX_Q16_16_C(3.5), FX_Q16_16_C(-1.0), margin));
 }
 
-/* The coarse search's combined query gives what the two queries give. */
 /* Probes g_last at trials random points in x0 .. x0 + 12 m, -6 .. 6 m with
  * one prober, each against ego_itcp_nearest and ego_itcp_seen_through
  * asked afresh; counts the outcomes in seen. */
@@ -338,6 +337,7 @@ static void probes_agree(fx_q16_16_t radius, fx_q16_16_t margin, int32_t x0, uns
     }
 }
 
+/* The coarse search's combined query gives what the two queries give. */
 static void test_itcp_probe_is_nearest_then_free_space(void)
 {
     prepared_scan(synth_room, synth_room_walls, 0.0, 0.0, 0.0, &g_last);
