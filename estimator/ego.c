@@ -100,16 +100,30 @@ static int64_t turn_between(fx_bam32_t a, fx_bam32_t b)
     return (d < 0) ? -d : d;
 }
 
+/* |a - b| of two Q16.16 coordinates: up to 2^32 - 1. */
+static uint64_t gap_between(fx_q16_16_t a, fx_q16_16_t b)
+{
+    const int64_t d = (int64_t)a - b;
+    return (uint64_t)((d < 0) ? -d : d);
+}
+
 /* Is the estimate within trust of the prediction over `horizon` of the
  * prediction's own intervals: the trust distance times the horizon (a
- * speed that changes goes on changing over each), the trust turn. */
+ * speed that changes goes on changing over each), the trust turn. The
+ * distance is capped at 2^31 (32 768 m) and each axis tested alone first,
+ * so that the squares fit: poses saturate at the ends of Q16.16, and two
+ * such gaps squared overflowed int64 (E7 in docs/robustness.md). */
+#define TRUST_DISTANCE_CAP ((uint64_t)1u << 31)
+
 static bool close_over(const ego_pose_t *estimate, const ego_pose_t *predicted,
                        const ego_params_t *params, uint32_t horizon)
 {
-    const int64_t dx = (int64_t)estimate->x - predicted->x;
-    const int64_t dy = (int64_t)estimate->y - predicted->y;
-    const int64_t r = (int64_t)params->trust_translation * horizon;
-    return dx * dx + dy * dy <= r * r &&
+    const uint64_t dx = gap_between(estimate->x, predicted->x);
+    const uint64_t dy = gap_between(estimate->y, predicted->y);
+    const int64_t trust = params->trust_translation;
+    uint64_t r = (uint64_t)((trust < 0) ? -trust : trust) * horizon;
+    r = (r > TRUST_DISTANCE_CAP) ? TRUST_DISTANCE_CAP : r;
+    return dx <= r && dy <= r && dx * dx + dy * dy <= r * r &&
            turn_between(estimate->theta, predicted->theta) <= (int64_t)params->trust_rotation;
 }
 

@@ -132,7 +132,8 @@ typedef struct {
     fx_q2_30_t min_correlation;  /* below: EGO_FLAG_LOW_CORRELATION, default 0.3 */
     uint16_t min_points;         /* fewer: EGO_FLAG_TOO_FEW_POINTS, default 20 */
     fx_q16_16_t trust_translation; /* the last motion predicts the next only when it was */
-    fx_bam32_t trust_rotation;     /* itself this close to its prediction; 0.1 m, 3 deg */
+    fx_bam32_t trust_rotation;     /* itself this close to its prediction; 0.1 m, 3 deg
+                                      (the distance times the horizon capped at 32 768 m) */
     fx_q2_30_t prior_margin;       /* another rotation candidate replaces the prior's only
                                       with a balanced inlier share this much larger; 0.1 */
     uint8_t sweep_steps;           /* without a prior, when no candidate fits: coarse search */
