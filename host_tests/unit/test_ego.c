@@ -704,6 +704,72 @@ static void test_ego_budget_recovers_from_a_jump_without_a_hole(void)
     TEST_ASSERT_TRUE_MESSAGE(fabs(th * 180.0 / FX_HOST_PI - th_deg) < 0.5, msg);
 }
 
+/* The line's pose and flags, for a failing assertion's message. */
+static const char *line_of(const char *what, const ego_output_t *out)
+{
+    static char msg[160];
+    (void)snprintf(msg, sizeof msg, "%s: pose (%.4f, %.4f, %.3f deg) dt %u flags 0x%x work %u/%u",
+                   what, fx_q16_16_to_double(out->pose.x), fx_q16_16_to_double(out->pose.y),
+                   rad_of(out->pose.theta) * 180.0 / FX_HOST_PI, (unsigned)out->dt_us,
+                   (unsigned)out->flags, (unsigned)out->work, (unsigned)out->work_limit);
+    return msg;
+}
+
+/* A motion from before a search, scaled to a long interval, saturates:
+ * 5 cm back and left in 10 us (clock ticks bunched up), then a jump the
+ * search takes scans to find, then 10 s of silence. The scan after the
+ * silence compares that motion scaled to 10 s (-32 768 m, the end of
+ * Q16.16, on both axes) with the prediction (none: the search's 10 us say
+ * nothing about 10 s): gaps of 2^31 on both axes, whose squares once
+ * summed past int64 (E7 in docs/robustness.md; the asan preset's UBSan
+ * failed here before the fix). The line after the silence is flagged,
+ * and the next scans are measured. */
+static void test_ego_a_saturated_motion_is_compared_safely(void)
+{
+    ego_defaults(&g_params);
+    ego_budget_defaults(&g_params);
+    ego_reset(&g_state);
+    (void)step(0.0, 0.0, 0.0, 0u);
+    (void)step(-0.05, -0.05, 0.0, 10u);
+    uint32_t t = 10u;
+    ego_output_t out;
+    unsigned scans = 0u;
+    do {
+        t += 10u;
+        scans++;
+        out = step(1.0, 0.5, 0.0, t);
+        TEST_ASSERT_TRUE_MESSAGE(out.work <= out.work_limit, line_of("search", &out));
+    } while ((out.flags & EGO_FLAG_RECOVERING) != 0u && scans < 30u);
+    /* The search spanned scans and found the jump from the last trusted scan. */
+    TEST_ASSERT_TRUE_MESSAGE(scans > 1u && (out.flags & EGO_FLAG_RECOVERED) != 0u,
+                             line_of("recovered", &out));
+    TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 1.05) < 0.02 &&
+                                 fabs(fx_q16_16_to_double(out.pose.y) - 0.55) < 0.02,
+                             line_of("recovered", &out));
+    /* After the silence: the true motion (1, 0.5), or a line flagged as not
+     * measured, its covariance unknown. */
+    out = step(2.0, 1.0, 0.0, t + 10000000u);
+    const char *msg = line_of("after 10 s", &out);
+    TEST_ASSERT_TRUE_MESSAGE(out.work <= out.work_limit, msg);
+    const bool measured = fabs(fx_q16_16_to_double(out.pose.x) - 1.0) < 0.02 &&
+                          fabs(fx_q16_16_to_double(out.pose.y) - 0.5) < 0.02;
+    if (!measured) {
+        TEST_ASSERT_TRUE_MESSAGE((out.flags & (EGO_FLAG_PREDICTED | EGO_FLAG_RECOVERING)) != 0u, msg);
+        TEST_ASSERT_EQUAL_INT32_MESSAGE(EGO_COV_SATURATED, out.cov.xx, msg);
+        TEST_ASSERT_EQUAL_INT32_MESSAGE(EGO_COV_SATURATED, out.cov.yy, msg);
+    }
+    /* Standing, then 10 cm forward, 0.1 s apart: measured, trusted. */
+    static const double xs[] = {2.0, 2.1};
+    for (unsigned k = 0u; k < 2u; k++) {
+        out = step(xs[k], 1.0, 0.0, t + 10100000u + 100000u * k);
+        msg = line_of("then", &out);
+        TEST_ASSERT_EQUAL_HEX16_MESSAGE(0u, out.flags, msg);
+        TEST_ASSERT_TRUE_MESSAGE(fabs(fx_q16_16_to_double(out.pose.x) - 0.1 * k) < 0.01 &&
+                                     fabs(fx_q16_16_to_double(out.pose.y)) < 0.01,
+                                 msg);
+    }
+}
+
 /* A tracking run (tracking: from a prediction; else a search's
  * registration) of g_current against g_last from start, to its end with an
  * unlimited meter; returns the units it spent. */
@@ -1205,6 +1271,7 @@ int main(void)
     RUN_TEST(test_ego_ring_flags_its_rotation);
     RUN_TEST(test_ego_unbounded_answers_every_scan);
     RUN_TEST(test_ego_budget_recovers_from_a_jump_without_a_hole);
+    RUN_TEST(test_ego_a_saturated_motion_is_compared_safely);
     RUN_TEST(test_ego_a_platoon_is_never_silently_wrong);
     RUN_TEST(test_ego_tracking_keeps_the_street_when_trucks_pull_in);
     RUN_TEST(test_ego_the_street_measures_what_the_platoon_hides);
