@@ -17,9 +17,12 @@
  *   scanner driving an ellipse in it), in the variant and units the
  *   driver set. --scans N ends the simulator after N streamed scans.
  * - play: the B0 telegrams of FILE (a raw stream or a recording of
- *   `lmsego record`) once, with the gaps between them as recorded (raw
- *   streams: at the scan rate); the scanner only accepts the recording's
- *   own variant. It ends when the last scan has left; --loop repeats.
+ *   `lmsego record`) once, with the gaps between them as the scanner sent
+ *   them (play_timing.h: a recorder's late reads are not played as
+ *   silence; raw streams: at the scan rate); the scanner only accepts the
+ *   recording's own variant. A stream the host restarts resumes with the
+ *   first scan that had not left (sim --source too). It ends when the last
+ *   scan has left; --loop repeats.
  * On a pseudo-terminal the simulator reads the rate the driver set and
  * garbles both directions when it differs from its own. On a real port
  * (--port) it sets the port to its own rate, as a scanner's UART would.
@@ -44,6 +47,7 @@
 #include "lms_pty.h"
 #include "lms_serial.h"
 #include "lms_sim.h"
+#include "play_timing.h"
 #include "stream_frames.h"
 
 /* --- Scan sources ------------------------------------------------------- */
@@ -52,7 +56,9 @@
 typedef struct {
     uint8_t *bytes;      /* all telegrams back to back */
     size_t *offset;      /* start of telegram k */
-    uint32_t *gap_us;    /* recorded gap before telegram k */
+    uint64_t *time_us;   /* read time of telegram k; 0 in a raw stream */
+    uint32_t *gap_us;    /* gap before telegram k on the wire (play_timing.h) */
+    play_cursor_t cursor; /* the next one across restarts of the stream */
     size_t count;
     size_t cap;
     size_t used;
@@ -62,7 +68,7 @@ typedef struct {
     bool partial;
 } recorded_t;
 
-static int recorded_add(recorded_t *r, const uint8_t *t, size_t len, uint32_t gap_us)
+static int recorded_add(recorded_t *r, const uint8_t *t, size_t len, uint64_t time_us)
 {
     if (t == NULL || len == 0u) {
         return -1;
@@ -72,11 +78,11 @@ static int recorded_add(recorded_t *r, const uint8_t *t, size_t len, uint32_t ga
         if (o != NULL) {
             r->offset = o;
         }
-        uint32_t *g = realloc(r->gap_us, (r->count + 256u) * sizeof *g);
-        if (g != NULL) {
-            r->gap_us = g;
+        uint64_t *tm = realloc(r->time_us, (r->count + 256u) * sizeof *tm);
+        if (tm != NULL) {
+            r->time_us = tm;
         }
-        if (o == NULL || g == NULL) {
+        if (o == NULL || tm == NULL) {
             return -1;
         }
     }
@@ -94,7 +100,7 @@ static int recorded_add(recorded_t *r, const uint8_t *t, size_t len, uint32_t ga
     }
     memcpy(r->bytes + r->used, t, len);
     r->offset[r->count] = r->used;
-    r->gap_us[r->count] = gap_us;
+    r->time_us[r->count] = time_us;
     r->used += len;
     r->count++;
     return 0;
@@ -104,21 +110,15 @@ static void recorded_free(recorded_t *r)
 {
     free(r->bytes);
     free(r->offset);
+    free(r->time_us);
     free(r->gap_us);
     memset(r, 0, sizeof *r);
 }
 
-/* One telegram of the file: B0 telegrams are kept, with the gap since the
- * previous one when the file is a recording. */
-typedef struct {
-    recorded_t *r;
-    uint64_t last_time_us;
-} loading_t;
-
+/* One telegram of the file: B0 telegrams are kept, with their read time. */
 static int load_telegram(void *ctx, const uint8_t *t, size_t len, uint64_t time_us)
 {
-    loading_t *l = ctx;
-    recorded_t *r = l->r;
+    recorded_t *r = ctx;
     static lms_scan_t scan;
     if (len <= LMS_HEADER_SIZE || t[LMS_HEADER_SIZE] != LMS_REPLY_VALUES ||
         lms_decode_scan(t, len, &scan) != LMS_OK) {
@@ -128,31 +128,33 @@ static int load_telegram(void *ctx, const uint8_t *t, size_t len, uint64_t time_
         r->values = scan.count;
         r->partial = scan.is_partial;
     }
-    uint32_t gap = 0u;
-    if (time_us != 0u && r->count > 0u) {
-        const uint64_t d = time_us - l->last_time_us;
-        gap = d > 10000000u ? 10000000u : (uint32_t)d;
-    }
-    l->last_time_us = time_us;
-    if (recorded_add(r, t, len, gap) != 0) {
+    if (recorded_add(r, t, len, time_us) != 0) {
         cli_error("out of memory reading the scans");
         return 1;
     }
     return 0;
 }
 
-/* Reads every B0 of path (raw stream or recording). Returns 0, or -1 after
- * a message. */
+/* Reads every B0 of path (raw stream or recording) and times them: a
+ * recording's as they left the scanner (play_timing.h), a raw stream's at
+ * the scan rate (gaps of 0). Returns 0, or -1 after a message. */
 static int recorded_load(recorded_t *r, const char *path)
 {
     static lms_framer_t framer;
-    loading_t loading = {r, 0u};
-    if (stream_frames_run_path(path, &framer, load_telegram, &loading) != CLI_EXIT_OK) {
+    if (stream_frames_run_path(path, &framer, load_telegram, r) != CLI_EXIT_OK) {
         return -1;
     }
     if (r->count == 0u) {
         cli_file_error("no scans in ", path, "no valid B0 telegram");
         return -1;
+    }
+    r->gap_us = calloc(r->count, sizeof *r->gap_us);
+    if (r->gap_us == NULL) {
+        cli_error("out of memory reading the scans");
+        return -1;
+    }
+    if (r->time_us[r->count - 1u] != 0u) {
+        play_wire_gaps(r->time_us, r->gap_us, r->count);
     }
     return 0;
 }
@@ -167,11 +169,12 @@ static bool recorded_scan(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t re
     (void)unit;
     (void)reply_address; /* played verbatim, as recorded */
     recorded_t *r = ctx;
-    if (!r->loop && k >= r->count) {
+    const uint64_t next = play_cursor_index(&r->cursor, k);
+    if (!r->loop && next >= r->count) {
         r->done = true;
         return false;
     }
-    const size_t i = k % r->count;
+    const size_t i = (size_t)(next % r->count);
     const size_t end = i + 1u < r->count ? r->offset[i + 1u] : r->used;
     const size_t n = end - r->offset[i];
     if (n > cap) {
@@ -179,7 +182,8 @@ static bool recorded_scan(void *ctx, uint32_t k, uint16_t angle_deg, uint16_t re
     }
     memcpy(out, r->bytes + r->offset[i], n);
     *len = n;
-    *gap_us = i == 0u ? 0u : r->gap_us[i];
+    /* A stream's first scan, and the first of each loop, at the next rotation. */
+    *gap_us = k == 0u || i == 0u ? 0u : r->gap_us[i];
     return true;
 }
 
@@ -295,8 +299,8 @@ static const char help_play[] =
     "                stdout line)\n"
     "  --link PATH   with --pty: a symbolic link to it\n"
     "  --port DEV    or on a real serial port (exactly one of --pty and --port)\n"
-    "  --rate X      time scale, 0.01 .. 100 (default 1: the recorded timing; a raw\n"
-    "                stream at the scan rate)\n"
+    "  --rate X      time scale, 0.01 .. 100 (default 1: the recorded timing, as the\n"
+    "                scanner sent the scans; a raw stream at the scan rate)\n"
     "  --loop        play it again and again (default: once)\n"
     "\n"
     "output: the first line on stdout is the device path; stderr: one line of counters\n"

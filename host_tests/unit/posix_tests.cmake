@@ -16,7 +16,8 @@ endif()
 set(LMSEGO_HOST_DIR ${PROJECT_SOURCE_DIR}/firmware/host)
 set(LMSEGO_REC_OUT_DIR ${CMAKE_CURRENT_BINARY_DIR}/recording_out)
 lmsego_add_unit_test(test_recording test_recording.c
-    ${LMSEGO_HOST_DIR}/recording.c ${LMSEGO_HOST_DIR}/stream_file.c)
+    ${LMSEGO_HOST_DIR}/recording.c ${LMSEGO_HOST_DIR}/stream_file.c
+    ${LMSEGO_HOST_DIR}/play_timing.c)
 target_include_directories(test_recording PRIVATE ${LMSEGO_HOST_DIR})
 # mkdtemp, pipe, dup2, fstat/fileno in stream_file.c.
 target_compile_definitions(test_recording PRIVATE _POSIX_C_SOURCE=200809L

@@ -5,6 +5,9 @@
  * of the block its bytes came from), the same through a pipe on stdin,
  * raw streams still read as before, malformed recordings refused with
  * EBADMSG and a reason, and the writer's splitting and error reporting.
+ * And how `lmsego play` times and orders a recording's scans
+ * (play_timing.h): a busy recorder's late reads are not played as
+ * silence, a real outage is, and a restarted stream resumes.
  *
  * It also leaves recordings in LMSEGO_REC_OUT_DIR for the CLI tests in
  * posix_tests.cmake (lmsego stats / scans / replay on a recording).
@@ -16,6 +19,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "play_timing.h"
 #include "recording.h"
 #include "stream_file.h"
 #include "unity.h"
@@ -513,6 +517,119 @@ static void test_recording_writer_reports_errors(void)
     TEST_ASSERT_EQUAL_INT(ENOSPC, recording_writer_close(&w));
 }
 
+/* --- play_timing.h ------------------------------------------------------ */
+
+#define ROT PLAY_ROTATION_US
+#define N_PLAY 60u
+
+/* Scan k leaves the scanner at k rotations and is read 500 us later. */
+static void steady_reads(uint64_t *t, size_t n)
+{
+    for (size_t k = 0u; k < n; k++) {
+        t[k] = 1000000u + (uint64_t)k * ROT + 500u;
+    }
+}
+
+static void test_play_gaps_keep_steady_reads(void)
+{
+    static uint64_t t[N_PLAY];
+    static uint32_t gap[N_PLAY];
+    /* 50 Hz reads (a rotation and a half apart, jittered): as recorded. */
+    for (size_t k = 0u; k < N_PLAY; k++) {
+        t[k] = 2000000u + (uint64_t)k * 20000u + (k % 3u) * 900u;
+    }
+    play_wire_gaps(t, gap, N_PLAY);
+    TEST_ASSERT_EQUAL_UINT32(0u, gap[0]);
+    for (size_t k = 1u; k < N_PLAY; k++) {
+        const uint64_t want = 20000u + (k % 3u) * 900u - ((k - 1u) % 3u) * 900u;
+        TEST_ASSERT_EQUAL_UINT32((uint32_t)want, gap[k]);
+    }
+}
+
+static void test_play_gaps_drop_a_busy_readers_delay(void)
+{
+    static uint64_t t[N_PLAY];
+    static uint32_t gap[N_PLAY];
+    steady_reads(t, N_PLAY);
+    /* The recorder was busy from scan 10 to scan 21: it read those 12
+     * scans at once, 3 ms after scan 21 arrived. */
+    const uint64_t late = t[21] + 3000u;
+    for (size_t k = 10u; k <= 21u; k++) {
+        t[k] = late;
+    }
+    TEST_ASSERT_TRUE(t[10] - t[9] > 8u * ROT); /* as recorded: a silence */
+    const uint64_t first = t[0];
+    const uint64_t last = t[N_PLAY - 1u];
+    play_wire_gaps(t, gap, N_PLAY);
+    /* Scan 22 came on time, a rotation after 21 left: the schedule is
+     * recovered exactly. */
+    uint64_t sum = 0u;
+    for (size_t k = 1u; k < N_PLAY; k++) {
+        TEST_ASSERT_EQUAL_UINT32(ROT, gap[k]);
+        sum += gap[k];
+    }
+    /* The last scan keeps its time; the first was not late. */
+    TEST_ASSERT_EQUAL_UINT(last, t[N_PLAY - 1u]);
+    TEST_ASSERT_EQUAL_UINT(first, t[0]);
+    TEST_ASSERT_EQUAL_UINT(last - first, sum);
+}
+
+static void test_play_gaps_keep_an_outage(void)
+{
+    static uint64_t t[N_PLAY];
+    static uint32_t gap[N_PLAY];
+    steady_reads(t, N_PLAY);
+    /* The scanner fell silent for 40 rotations after scan 10. */
+    for (size_t k = 11u; k < N_PLAY; k++) {
+        t[k] += 40u * ROT;
+    }
+    play_wire_gaps(t, gap, N_PLAY);
+    for (size_t k = 1u; k < N_PLAY; k++) {
+        TEST_ASSERT_EQUAL_UINT32(k == 11u ? 41u * ROT : ROT, gap[k]);
+    }
+}
+
+static void test_play_gaps_edges(void)
+{
+    uint64_t t[3] = {0u, 60000000u, 60000000u + ROT};
+    uint32_t gap[3] = {7u, 7u, 7u};
+    play_wire_gaps(t, gap, 0u); /* nothing */
+    TEST_ASSERT_EQUAL_UINT32(7u, gap[0]);
+    play_wire_gaps(t, gap, 1u);
+    TEST_ASSERT_EQUAL_UINT32(0u, gap[0]);
+    /* A minute's pause is played as PLAY_GAP_MAX_US. */
+    play_wire_gaps(t, gap, 3u);
+    TEST_ASSERT_EQUAL_UINT32(PLAY_GAP_MAX_US, gap[1]);
+    TEST_ASSERT_EQUAL_UINT32(ROT, gap[2]);
+    /* Three scans read at once 5 ms into the recording: the wire times
+     * stop at 0. */
+    uint64_t u[3] = {5000u, 5000u, 5000u};
+    play_wire_gaps(u, gap, 3u);
+    TEST_ASSERT_EQUAL_UINT(0u, u[0]);
+    TEST_ASSERT_EQUAL_UINT(0u, u[1]);
+    TEST_ASSERT_EQUAL_UINT(5000u, u[2]);
+    TEST_ASSERT_EQUAL_UINT32(0u, gap[1]);
+    TEST_ASSERT_EQUAL_UINT32(5000u, gap[2]);
+}
+
+static void test_play_cursor_resumes_a_restarted_stream(void)
+{
+    play_cursor_t c = {0u, 0u, false};
+    /* Scans 0..2 leave, 3 is fetched when 2 left. */
+    for (uint32_t k = 0u; k <= 3u; k++) {
+        TEST_ASSERT_EQUAL_UINT(k, play_cursor_index(&c, k));
+    }
+    /* The host restarts the stream: 3 never left, so it comes first. */
+    TEST_ASSERT_EQUAL_UINT(3u, play_cursor_index(&c, 0u));
+    TEST_ASSERT_EQUAL_UINT(4u, play_cursor_index(&c, 1u));
+    /* Again, with 4 fetched and not sent; then once more before any scan
+     * left: no scan is skipped or repeated. */
+    TEST_ASSERT_EQUAL_UINT(4u, play_cursor_index(&c, 0u));
+    TEST_ASSERT_EQUAL_UINT(4u, play_cursor_index(&c, 0u));
+    TEST_ASSERT_EQUAL_UINT(5u, play_cursor_index(&c, 1u));
+    TEST_ASSERT_EQUAL_UINT(6u, play_cursor_index(&c, 2u));
+}
+
 int main(void)
 {
     /* The directory the CLI tests read from. */
@@ -529,5 +646,10 @@ int main(void)
     RUN_TEST(test_recording_edges_accepted);
     RUN_TEST(test_recording_writer_splits_and_refuses);
     RUN_TEST(test_recording_writer_reports_errors);
+    RUN_TEST(test_play_gaps_keep_steady_reads);
+    RUN_TEST(test_play_gaps_drop_a_busy_readers_delay);
+    RUN_TEST(test_play_gaps_keep_an_outage);
+    RUN_TEST(test_play_gaps_edges);
+    RUN_TEST(test_play_cursor_resumes_a_restarted_stream);
     return UNITY_END();
 }

@@ -288,7 +288,7 @@ lmsego_cli_test(play_no_scans ARGS play ${LMSEGO_CLI_DATA}/vectors.hex --pty
 # low-priority busy processes such as CI's QEMU lane).
 if(UNIX)
     foreach(c stream baud-9600 baud-19200 baud-38400 baud-500000 variant fault-silence
-              fault-power fault-hangup fault-bytes fault-nak record-play sigint)
+              fault-power fault-hangup fault-bytes fault-nak record-play play-outage sigint)
         add_test(NAME live_${c}
             COMMAND sh ${LMSEGO_CLI_DATA}/live.sh $<TARGET_FILE:lmsego>
                     ${PROJECT_SOURCE_DIR}/host_tests/data ${CMAKE_CURRENT_BINARY_DIR}/live/${c} ${c})

@@ -21,6 +21,10 @@
 #                recovered; run counts the restart and still gets its scans.
 #   record-play  record 150 scans, play the recording as the scanner,
 #                record again: the same scans.
+#   play-outage  record 100 scans from a scanner that falls silent for
+#                400 ms after 40, play that: the outage is played (one
+#                restart), and the played scans are the recorded ones, each
+#                once, in order (play resumes; it does not start over).
 #   sigint       SIGINT mid-stream: clean stop, exit 0, scanner at 9600.
 set -u
 lmsego=$1
@@ -176,6 +180,24 @@ record-play)
     "$lmsego" scans second.rec > second.scans || fail "scans of the second recording"
     n=$(wc -l < second.scans)
     [ "$n" -ge 120 ] || fail "second recording has $n scans"
+    head -n "$n" first.scans > first.head
+    cmp -s first.head second.scans || fail "the played scans differ from the recorded ones"
+    ;;
+play-outage)
+    start_scanner sim --source "$campus" --faults silence=40:400
+    timeout -k 10 "$T" "$lmsego" record --port "$dev" -o first.rec --scans 100 2> rec.err ||
+        fail "record exited with $?"
+    stop_scanner
+    [ "$(counter restarts rec.err)" = 1 ] || fail "the first recording did not see the outage"
+    start_scanner play first.rec --pty
+    timeout -k 10 "$T" "$lmsego" record --port "$dev" -o second.rec --scans 90 2> rec2.err ||
+        fail "second record exited with $?"
+    stop_scanner
+    [ "$(counter restarts rec2.err)" = 1 ] || fail "expected one restart at the played outage"
+    "$lmsego" scans first.rec > first.scans || fail "scans of the first recording"
+    "$lmsego" scans second.rec > second.scans 2> /dev/null || fail "scans of the second recording"
+    n=$(wc -l < second.scans)
+    [ "$n" -ge 90 ] || fail "second recording has $n scans"
     head -n "$n" first.scans > first.head
     cmp -s first.head second.scans || fail "the played scans differ from the recorded ones"
     ;;
