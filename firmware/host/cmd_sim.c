@@ -414,6 +414,28 @@ static void line_send(line_t *l, const uint8_t *bytes, size_t n)
     }
 }
 
+/* A wake-up this much later than the simulator asked for: its process was
+ * not running (a busy machine), and the line was silent meanwhile, which a
+ * real scanner never is. Counted, so that a test can tell a silence of the
+ * machine from one the driver should not have seen (live.sh). */
+#define STALL_US 50000u
+
+typedef struct {
+    uint64_t wake_us;   /* when the loop asked to run again; 0: not yet */
+    unsigned long count; /* wake-ups STALL_US or more late */
+    uint64_t max_us;    /* the latest of them */
+} stalls_t;
+
+static void stalls_check(stalls_t *st, uint64_t now)
+{
+    if (st->wake_us != 0u && now >= st->wake_us + STALL_US) {
+        st->count++;
+        if (now - st->wake_us > st->max_us) {
+            st->max_us = now - st->wake_us;
+        }
+    }
+}
+
 /* Until the model's next event, 1 .. 100 ms. At least 1 ms: bytes then
  * leave in chunks of up to a millisecond of line time, as a USB serial
  * adapter delivers them, instead of a wake-up per 20-us byte at 500 kbaud. */
@@ -489,8 +511,10 @@ static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
     int status = CLI_EXIT_OK;
     static uint8_t buf[4096];
     lms_baud_t port_baud = o.sim.power_on_baud;
+    stalls_t stalls = {0u, 0u, 0u};
     while (!live_stop_requested()) {
         const uint64_t now = live_monotonic_us() - t0;
+        stalls_check(&stalls, now);
         /* The host's rate: what the driver set on the pseudo-terminal (a
          * rate none of the four: anything but ours, so all is garbled); on
          * a real port, our own (the port follows us). */
@@ -523,7 +547,9 @@ static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
         }
         const uint64_t next = lms_sim_next_event_us(&sim, now);
         struct pollfd p = {line_fd(&line), POLLIN, 0};
-        const int pr = poll(&p, 1u, poll_timeout_ms(now, next));
+        const int timeout_ms = poll_timeout_ms(now, next);
+        stalls.wake_us = now + (uint64_t)timeout_ms * 1000u;
+        const int pr = poll(&p, 1u, timeout_ms);
         if (pr < 0 && errno != EINTR) {
             cli_error(strerror(errno));
             status = CLI_EXIT_RUNTIME;
@@ -544,13 +570,14 @@ static int sim_main(const cli_command_t *self, int argc, char **argv, bool play)
     (void)fprintf(stderr,
                   "lmsego: %s: scans_sent=%lu scans_skipped=%lu host_telegrams=%lu host_bad=%lu "
                   "garbled_bytes=%lu baud_changes=%lu config_writes=%lu power_cycles=%lu "
-                  "dropped=%lu flipped=%lu inserted=%lu unread=%lu\n",
+                  "dropped=%lu flipped=%lu inserted=%lu unread=%lu stalls=%lu stall_max_ms=%lu\n",
                   self->name, (unsigned long)ss->scans_sent, (unsigned long)ss->scans_skipped,
                   (unsigned long)ss->host_telegrams, (unsigned long)ss->host_bad,
                   (unsigned long)ss->garbled_bytes, (unsigned long)ss->baud_changes,
                   (unsigned long)ss->config_writes, (unsigned long)ss->power_cycles,
                   (unsigned long)ss->bytes_dropped, (unsigned long)ss->bytes_flipped,
-                  (unsigned long)ss->bytes_inserted, (unsigned long)line.dropped);
+                  (unsigned long)ss->bytes_inserted, (unsigned long)line.dropped, stalls.count,
+                  (unsigned long)(stalls.max_us / 1000u));
     if (line.use_pty) {
         lms_pty_close(&line.pty);
     } else {

@@ -100,6 +100,27 @@ at_least() {
     [ -n "$v" ] && [ "$v" -ge "$2" ] || fail "$1=${v:-none}, wanted at least $2"
 }
 
+# restarts_are N FILE: the session's restarts in FILE are N. More only when
+# the simulator says (sim.err) that it did not run for 80 ms or more, at
+# least once per restart more: with up to a scan interval since the last
+# scan, that silences the line for the 8 intervals after which a driver
+# rightly restarts (107 ms at 75 Hz). A busy machine, not the driver: said
+# on stderr, not failed. Anything else is a failure. (stream and baud-B
+# compare with a replay, which only a run without restarts matches: they
+# stay strict.)
+restarts_are() {
+    r=$(counter restarts "$2")
+    [ "$r" = "$1" ] && return 0
+    stalls=$(counter stalls sim.err)
+    longest=$(counter stall_max_ms sim.err)
+    if [ -n "$r" ] && [ "$r" -gt "$1" ] && [ "${longest:-0}" -ge 80 ] &&
+        [ $((r - $1)) -le "${stalls:-0}" ]; then
+        echo "note ($case_name): restarts=$r, not $1: the simulator stalled ($stalls times, up to $longest ms)" >&2
+        return 0
+    fi
+    return 1
+}
+
 campus=$data/sequences/campus_181_cm.lms
 
 case $case_name in
@@ -146,7 +167,7 @@ fault-silence | fault-power | fault-hangup)
     run_scans 300 --variant 180,1
     stop_scanner
     grep -q "$want" run.err || fail "the fault was not seen ($want)"
-    [ "$(counter restarts run.err)" = 1 ] || fail "expected one restart"
+    restarts_are 1 run.err || fail "expected one restart"
     at_least scans 300 run.err
     # The first scan after the restart starts over: flag 1 (EGO_FLAG_FIRST).
     awk -F, 'NR > 2 && $9 % 2 == 1 { found = 1 } END { exit !found }' run.csv ||
@@ -188,12 +209,12 @@ play-outage)
     timeout -k 10 "$T" "$lmsego" record --port "$dev" -o first.rec --scans 100 2> rec.err ||
         fail "record exited with $?"
     stop_scanner
-    [ "$(counter restarts rec.err)" = 1 ] || fail "the first recording did not see the outage"
+    restarts_are 1 rec.err || fail "the first recording did not see the outage once"
     start_scanner play first.rec --pty
     timeout -k 10 "$T" "$lmsego" record --port "$dev" -o second.rec --scans 90 2> rec2.err ||
         fail "second record exited with $?"
     stop_scanner
-    [ "$(counter restarts rec2.err)" = 1 ] || fail "expected one restart at the played outage"
+    restarts_are 1 rec2.err || fail "expected one restart at the played outage"
     "$lmsego" scans first.rec > first.scans || fail "scans of the first recording"
     "$lmsego" scans second.rec > second.scans 2> /dev/null || fail "scans of the second recording"
     n=$(wc -l < second.scans)
