@@ -56,7 +56,7 @@
 typedef struct {
     uint8_t *bytes;      /* all telegrams back to back */
     size_t *offset;      /* start of telegram k */
-    uint64_t *time_us;   /* read time of telegram k; 0 in a raw stream */
+    uint64_t *time_us;   /* while loading: read time of telegram k; 0 in a raw stream */
     uint32_t *gap_us;    /* gap before telegram k on the wire (play_timing.h) */
     play_cursor_t cursor; /* the next one across restarts of the stream */
     size_t count;
@@ -156,6 +156,8 @@ static int recorded_load(recorded_t *r, const char *path)
     if (r->time_us[r->count - 1u] != 0u) {
         play_wire_gaps(r->time_us, r->gap_us, r->count);
     }
+    free(r->time_us); /* the gaps are all play needs */
+    r->time_us = NULL;
     return 0;
 }
 
